@@ -1,0 +1,324 @@
+/**
+ * @file grid.h
+ * @brief The measurement grid: measured BRDF values and everything derived
+ *        from their geometry.
+ *
+ * A grid is immutable once created. Every function here only reads it, so a
+ * grid may be shared by any number of threads without locking, for as long
+ * as no thread destroys it.
+ *
+ * Conventions (SPEC section 2):
+ * - Angles are in radians everywhere in the API (file formats and the
+ *   command-line tool use degrees). Polar angles theta lie in [0, pi/2],
+ *   measured from the normal n = +z; azimuths phi are measured from +x.
+ * - A regular grid follows the isotropic layout of the measurement: the light
+ *   lies at azimuth pi, l = (-sin theta_i, 0, cos theta_i); the camera at
+ *   (theta_o, phi_o), phi_o in [0, pi] (phi_o = 0 is the mirror side).
+ *   Sample s of a regular grid has axis indices (i, j, k) with
+ *   s = (i * n_theta_o + j) * n_phi_o + k.
+ * - A scattered grid holds a list of samples, each with its own light and
+ *   view direction. It stores them sorted by max(theta_i, theta_o),
+ *   ascending and stable, so that every angle cap selects a prefix; sample
+ *   indices of a scattered grid refer to that stored order, and
+ *   brdffit_grid_sample_angles() gives each sample's directions back.
+ * - Values are BRDF values in 1/sr, n_channels per sample. Input arrays are
+ *   interleaved: value (s, c) at [s * n_channels + c]. The grid stores them
+ *   per channel (brdffit_grid_values()).
+ * - A value may be marked missing. Missing values are kept out of fits and
+ *   weights; their stored value is 0.
+ * - The grid copies everything it is given; the caller's arrays may be
+ *   freed as soon as a creation function returns.
+ */
+#ifndef BRDFFIT_GRID_H
+#define BRDFFIT_GRID_H
+
+#include <stddef.h>
+
+#include "brdffit/alloc.h"
+#include "brdffit/export.h"
+#include "brdffit/status.h"
+
+/** @defgroup grid Measurement grid
+ * @{ */
+
+/** @brief Opaque, immutable measurement grid. */
+typedef struct brdffit_grid brdffit_grid;
+
+/** @brief The two forms of grid. Values are fixed forever. */
+typedef enum brdffit_grid_kind {
+    BRDFFIT_GRID_REGULAR = 1,   /**< Regular isotropic (theta_i, theta_o, phi_o) grid. */
+    BRDFFIT_GRID_SCATTERED = 2  /**< A list of samples with their own directions. */
+} brdffit_grid_kind;
+
+/** @brief Names of the three axes of a regular grid. Values are fixed forever. */
+typedef enum brdffit_axis {
+    BRDFFIT_AXIS_THETA_I = 0, /**< Light polar angle. */
+    BRDFFIT_AXIS_THETA_O = 1, /**< View polar angle. */
+    BRDFFIT_AXIS_PHI_O = 2    /**< View azimuth, 0 .. pi. */
+} brdffit_axis;
+
+/** @brief Flags selecting the residual weights of SPEC section 2. */
+typedef enum brdffit_weighting {
+    BRDFFIT_WEIGHT_NONE = 0,        /**< Every sample weighs 1. */
+    BRDFFIT_WEIGHT_SOLID_ANGLE = 1, /**< Solid angle of the view cell (regular) or the given sample weight (scattered). */
+    BRDFFIT_WEIGHT_COSINE = 2,      /**< cos theta_i. */
+    BRDFFIT_WEIGHT_DEFAULT = 3      /**< Both, as in the thesis. */
+} brdffit_weighting;
+
+/**
+ * @brief The three axes of a regular grid, in radians. Caller-owned; the
+ *        layout of this struct is fixed forever.
+ *
+ * Each axis is strictly increasing. Polar axes lie in [0, pi/2], the
+ * azimuth axis in [0, pi].
+ */
+typedef struct brdffit_axes {
+    const double *theta_i; /**< Light polar angles. */
+    size_t n_theta_i;      /**< Number of light polar angles (>= 1). */
+    const double *theta_o; /**< View polar angles. */
+    size_t n_theta_o;      /**< Number of view polar angles (>= 1). */
+    const double *phi_o;   /**< View azimuths. */
+    size_t n_phi_o;        /**< Number of view azimuths (>= 1). */
+} brdffit_axes;
+
+/** @brief The default angle cap, 75 degrees, in radians. */
+#define BRDFFIT_DEFAULT_CAP 1.3089969389957472
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * @brief The thesis's measurement layout: theta_i = 0..90 deg step 5
+ *        (19 values), theta_o = 0..90 deg step 2.5 (37), phi_o = 0..180 deg
+ *        in 35 steps (36 values).
+ * @return A pointer to static, read-only data; never NULL. Thread-safe.
+ */
+BRDFFIT_API const brdffit_axes *brdffit_axes_default(void);
+
+/**
+ * @brief Create a regular grid from memory.
+ *
+ * @param[out] out        Receives the new grid; set to NULL on failure.
+ * @param axes            The three axes (copied).
+ * @param n_channels      Channels per sample, 1 or more.
+ * @param values          n_samples * n_channels values, interleaved, sample
+ *                        order as in the file comment (copied). Each must be
+ *                        finite and >= 0 unless marked missing.
+ * @param missing         NULL, or one byte per value (same layout as
+ *                        @p values); non-zero marks the value missing
+ *                        (copied).
+ * @param alloc           Allocator for the grid's whole life, or NULL.
+ * @param[out] err        NULL, or receives the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL pointers, zero
+ *         sizes or unsorted axes; ::BRDFFIT_E_RANGE for angles out of range
+ *         or values that are negative or not finite;
+ *         ::BRDFFIT_E_TOO_LARGE when the sizes overflow;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY.
+ * @note Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_create_regular(brdffit_grid **out,
+                                                       const brdffit_axes *axes,
+                                                       size_t n_channels,
+                                                       const double *values,
+                                                       const unsigned char *missing,
+                                                       const brdffit_allocator *alloc,
+                                                       brdffit_error *err);
+
+/**
+ * @brief Create a scattered grid from memory.
+ *
+ * @param[out] out        Receives the new grid; set to NULL on failure.
+ * @param n_samples       Number of samples, 1 or more.
+ * @param theta_i,phi_i   Light direction of each sample (copied).
+ * @param theta_o,phi_o   View direction of each sample (copied). Polar
+ *                        angles in [0, pi/2], azimuths in [-2 pi, 2 pi].
+ * @param n_channels      Channels per sample, 1 or more.
+ * @param values          n_samples * n_channels values, interleaved (copied).
+ * @param missing         NULL, or one byte per value; non-zero = missing.
+ * @param weights         NULL for uniform solid-angle weights, or one
+ *                        finite weight >= 0 per sample (copied).
+ * @param alloc           Allocator for the grid's whole life, or NULL.
+ * @param[out] err        NULL, or receives the detail on failure.
+ * @return As brdffit_grid_create_regular().
+ * @note The samples are stored sorted by max(theta_i, theta_o); see the
+ *       file comment. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_create_scattered(brdffit_grid **out,
+                                                         size_t n_samples,
+                                                         const double *theta_i,
+                                                         const double *phi_i,
+                                                         const double *theta_o,
+                                                         const double *phi_o,
+                                                         size_t n_channels,
+                                                         const double *values,
+                                                         const unsigned char *missing,
+                                                         const double *weights,
+                                                         const brdffit_allocator *alloc,
+                                                         brdffit_error *err);
+
+/**
+ * @brief Destroy a grid and free all its memory. NULL is a no-op.
+ * @note Not thread-safe with respect to other uses of the same grid.
+ */
+BRDFFIT_API void brdffit_grid_destroy(brdffit_grid *grid);
+
+/** @brief The grid's form; 0 for a NULL or invalid handle. Thread-safe. */
+BRDFFIT_API brdffit_grid_kind brdffit_grid_get_kind(const brdffit_grid *grid);
+
+/** @brief Number of samples (direction pairs); 0 for NULL. Thread-safe. */
+BRDFFIT_API size_t brdffit_grid_sample_count(const brdffit_grid *grid);
+
+/** @brief Number of channels per sample; 0 for NULL. Thread-safe. */
+BRDFFIT_API size_t brdffit_grid_channel_count(const brdffit_grid *grid);
+
+/** @brief Number of values marked missing; 0 for NULL. Thread-safe. */
+BRDFFIT_API size_t brdffit_grid_missing_count(const brdffit_grid *grid);
+
+/**
+ * @brief One axis of a regular grid.
+ * @param grid       A regular grid.
+ * @param axis       Which axis.
+ * @param[out] values Receives a pointer to the axis values (radians), owned
+ *                   by the grid and valid until it is destroyed.
+ * @param[out] count Receives the number of values.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments or an
+ *         unknown axis; ::BRDFFIT_E_UNSUPPORTED for a scattered grid.
+ * @note Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_axis(const brdffit_grid *grid, brdffit_axis axis,
+                                             const double **values, size_t *count);
+
+/**
+ * @brief The light and view directions of one sample, in radians.
+ *
+ * For a regular grid phi_i is pi. Any output pointer may be NULL.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for a NULL grid or a
+ *         sample index out of range. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_sample_angles(const brdffit_grid *grid, size_t sample,
+                                                      double *theta_i, double *phi_i,
+                                                      double *theta_o, double *phi_o);
+
+/**
+ * @brief The stored values of one channel.
+ * @param grid        The grid.
+ * @param channel     Channel index, below brdffit_grid_channel_count().
+ * @param[out] values Receives a pointer to brdffit_grid_sample_count()
+ *                    values in sample order (missing ones read 0), owned by
+ *                    the grid and valid until it is destroyed.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_values(const brdffit_grid *grid, size_t channel,
+                                               const double **values);
+
+/**
+ * @brief Whether one value is missing.
+ * @return 1 if missing, 0 if present or if the arguments are out of range.
+ *         Thread-safe.
+ */
+BRDFFIT_API int brdffit_grid_is_missing(const brdffit_grid *grid, size_t sample,
+                                        size_t channel);
+
+/**
+ * @brief Number of samples with theta_i <= cap and theta_o <= cap.
+ * @param grid The grid.
+ * @param cap  Angle cap in radians, 0 .. pi/2.
+ * @return The count; 0 for NULL or a cap outside its range. Thread-safe.
+ */
+BRDFFIT_API size_t brdffit_grid_active_count(const brdffit_grid *grid, double cap);
+
+/**
+ * @brief The residual weight of every sample (SPEC section 2, eq. 4.25).
+ *
+ * out[s] is the factor that multiplies (measured - model) in the residual:
+ * for a regular grid w_s * cos(theta_i) / sum(w), with w_s the solid angle
+ * of the sample's view cell (halved on the border of the stored region,
+ * quartered at corners, cut at @p cap), normalised by the sum of the cell
+ * solid angles of one view hemisphere (pi (1 - cos cap) for the full
+ * quarter sphere). For a scattered grid w_s is the given weight (or 1),
+ * normalised by the mean of the active samples' weights. Factors that are
+ * switched off by @p flags are 1. Samples beyond the cap get 0.
+ *
+ * @param grid     The grid.
+ * @param cap      Angle cap in radians, 0 .. pi/2.
+ * @param flags    A combination of ::brdffit_weighting flags.
+ * @param[out] out brdffit_grid_sample_count() doubles.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments, a
+ *         cap out of range or unknown flags; ::BRDFFIT_E_NO_DATA when no
+ *         sample lies within the cap. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_weights(const brdffit_grid *grid, double cap,
+                                                unsigned flags, double *out,
+                                                brdffit_error *err);
+
+/**
+ * @brief A new single-channel grid holding the mean over channels (the
+ *        thesis's monochrome stage, eq. 4.26).
+ *
+ * Missing values are left out of each mean; a sample whose values are all
+ * missing is missing in the result.
+ * @param[out] out Receives the new grid (owned by the caller).
+ * @param grid     The source grid.
+ * @param alloc    Allocator for the new grid, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_channel_mean(brdffit_grid **out,
+                                                     const brdffit_grid *grid,
+                                                     const brdffit_allocator *alloc,
+                                                     brdffit_error *err);
+
+/**
+ * @brief A new grid with clear-coat compensation (SPEC section 2, eq. 4.20):
+ *        every value divided by (1 - F(theta_i)), F the Schlick Fresnel
+ *        term F = r0 + (1 - r0) (1 - cos theta_i)^5.
+ *
+ * cos theta_i is clamped to at least 1e-4, so the divisor stays positive at
+ * grazing light.
+ * @param[out] out Receives the new grid (owned by the caller).
+ * @param grid     The source grid.
+ * @param r0       Reflection coefficient of the coat at normal incidence,
+ *                 0 <= r0 < 1.
+ * @param alloc    Allocator for the new grid, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (also for r0 outside
+ *         [0, 1)); ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdffit_grid *grid,
+                                                  double r0, const brdffit_allocator *alloc,
+                                                  brdffit_error *err);
+
+/**
+ * @brief The measured BRDF at an arbitrary light/view pair, interpolated
+ *        from a regular grid.
+ *
+ * Isotropy reduces the pair to (theta_i, theta_o, |phi_o - phi_i|), which is
+ * folded into the stored quarter sphere; reciprocity swaps light and view
+ * when only the swapped pair lies inside the theta_i axis. Values are
+ * interpolated trilinearly; missing neighbours are left out and the others
+ * renormalised; angles beyond an axis are clamped to its end.
+ *
+ * @param grid        A regular grid.
+ * @param theta_i,phi_i Light direction, radians.
+ * @param theta_o,phi_o View direction, radians.
+ * @param[out] out    brdffit_grid_channel_count() values.
+ * @param[out] err    NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments or
+ *         non-finite angles; ::BRDFFIT_E_UNSUPPORTED for a scattered grid;
+ *         ::BRDFFIT_E_NO_DATA when every neighbour is missing (out is then
+ *         all 0). Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_grid_eval(const brdffit_grid *grid, double theta_i,
+                                             double phi_i, double theta_o, double phi_o,
+                                             double *out, brdffit_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+
+#endif /* BRDFFIT_GRID_H */

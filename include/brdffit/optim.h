@@ -1,0 +1,336 @@
+/**
+ * @file optim.h
+ * @brief A general Levenberg-Marquardt optimizer for nonlinear least squares,
+ *        with pluggable damping policies, box bounds and fixed parameters.
+ *
+ * The optimizer minimises cost(x) = sum_i r_i(x)^2 (no factor 1/2) over
+ * x in R^p. The problem is given either as residuals plus Jacobian, or, for
+ * problems with many rows, directly in normal-equation form (J^T J, J^T r
+ * and the cost accumulated by the callback in one pass), so the Jacobian
+ * never has to be stored.
+ *
+ * Each step solves (J^T J + lambda D) delta = -J^T r with D = diag(J^T J)
+ * (Marquardt scaling, default; entries floored) or the identity
+ * (Levenberg), by Cholesky; when the damped matrix is not positive definite
+ * or is badly conditioned, by a symmetric eigen-decomposition
+ * (pseudo-inverse), and the run records that it fell back.
+ *
+ * An optimizer handle is not thread-safe: use one per thread. The only
+ * exception is brdffit_optimizer_cancel(), which any thread may call while
+ * another runs the optimizer. Two optimizers in two threads do not share
+ * any state.
+ */
+#ifndef BRDFFIT_OPTIM_H
+#define BRDFFIT_OPTIM_H
+
+#include <stddef.h>
+
+#include "brdffit/alloc.h"
+#include "brdffit/export.h"
+#include "brdffit/status.h"
+
+/** @defgroup optim Levenberg-Marquardt optimizer
+ * @{ */
+
+/** @brief Opaque optimizer. */
+typedef struct brdffit_optimizer brdffit_optimizer;
+
+/**
+ * @brief Residual form of a problem.
+ * @param x        The p parameters.
+ * @param[out] r   n_rows residuals.
+ * @param[out] jac NULL when only residuals are wanted; otherwise the
+ *                 n_rows x p Jacobian dr_i/dx_j, row-major: jac[i * p + j].
+ * @param user     The user pointer given with the callback.
+ * @return ::BRDFFIT_OK, or an error status; a failure at a trial point
+ *         rejects that step, a failure at the start point ends the run with
+ *         ::BRDFFIT_E_CALLBACK_FAILED.
+ */
+typedef brdffit_status (*brdffit_residual_fn)(const double *x, double *r, double *jac,
+                                              void *user);
+
+/**
+ * @brief Normal-equation form of a problem.
+ * @param x        The p parameters.
+ * @param[out] cost sum of squared residuals at x.
+ * @param[out] jtj NULL when only the cost is wanted; otherwise J^T J, p x p,
+ *                 row-major (both triangles).
+ * @param[out] jtr NULL when only the cost is wanted; otherwise J^T r, p values.
+ * @param user     The user pointer given with the callback.
+ * @return As ::brdffit_residual_fn.
+ */
+typedef brdffit_status (*brdffit_normal_fn)(const double *x, double *cost, double *jtj,
+                                            double *jtr, void *user);
+
+/**
+ * @brief A damping policy: how lambda starts and how it reacts to accepted
+ *        and rejected steps. A versioned vtable: initialise with
+ *        ::BRDFFIT_DAMPING_INIT, fields are only ever appended.
+ *
+ * The optimizer allocates @c state_size bytes of state (aligned for any
+ * type, zeroed) per run and passes them to every callback. @c init sets the
+ * start lambda; @c accept receives the gain ratio rho (actual over
+ * predicted cost reduction, > 0) and updates lambda; @c reject updates
+ * lambda after a step that did not lower the cost (rho <= 0, or a trial
+ * point the problem could not evaluate, then rho is NaN). lambda must stay
+ * finite and > 0; the optimizer clamps it to [1e-300, 1e300].
+ */
+typedef struct brdffit_damping {
+    size_t struct_size; /**< sizeof(brdffit_damping). */
+    const char *name;   /**< Short name, for reports. */
+    size_t state_size;  /**< Bytes of per-run state; may be 0. */
+    void (*init)(void *state, double *lambda, void *user);              /**< Start a run. */
+    void (*accept)(void *state, double rho, double *lambda, void *user); /**< After an accepted step. */
+    void (*reject)(void *state, double rho, double *lambda, void *user); /**< After a rejected step. */
+    void *user;         /**< Passed last to the callbacks. */
+} brdffit_damping;
+
+/** @brief Static initialiser for ::brdffit_damping. */
+#define BRDFFIT_DAMPING_INIT { sizeof(brdffit_damping), NULL, 0, NULL, NULL, NULL, NULL }
+
+/** @brief Numeric settings for brdffit_optimizer_set(). Values are fixed forever. */
+typedef enum brdffit_optim_setting {
+    BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| * max(|x_j|, 1) <= gtol * max(cost, tiny); default 1e-10. */
+    BRDFFIT_OPT_XTOL = 2,           /**< Stop when ||delta|| <= xtol * (||x|| + xtol); default 1e-10. */
+    BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by less than ftol * cost; default 1e-12. */
+    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 200. */
+    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations; default 1000. */
+    BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt diag(J^T J) (default), 0 = Levenberg identity. */
+    BRDFFIT_OPT_DIAG_FLOOR = 7      /**< Floor of diagonal scaling entries, relative to the largest; default 1e-12. */
+} brdffit_optim_setting;
+
+/** @brief Why a run ended. Values are fixed forever. */
+typedef enum brdffit_stop_reason {
+    BRDFFIT_STOP_NONE = 0,          /**< No run yet, or the run failed with an error. */
+    BRDFFIT_STOP_GRADIENT = 1,      /**< Small gradient (BRDFFIT_OPT_GTOL). */
+    BRDFFIT_STOP_STEP = 2,          /**< Small step (BRDFFIT_OPT_XTOL). */
+    BRDFFIT_STOP_COST = 3,          /**< Small relative cost reduction (BRDFFIT_OPT_FTOL). */
+    BRDFFIT_STOP_MAX_ITERATIONS = 4,/**< Iteration limit reached. */
+    BRDFFIT_STOP_MAX_EVALUATIONS = 5,/**< Evaluation limit reached. */
+    BRDFFIT_STOP_CANCELLED = 6,     /**< brdffit_optimizer_cancel() was called. */
+    BRDFFIT_STOP_CALLBACK = 7,      /**< The iteration callback asked to stop. */
+    BRDFFIT_STOP_ZERO_COST = 8      /**< The cost reached zero. */
+} brdffit_stop_reason;
+
+/**
+ * @brief What the iteration callback sees. Valid only during the callback;
+ *        fields are only ever appended.
+ */
+typedef struct brdffit_iteration {
+    size_t struct_size;  /**< sizeof the struct as the library knows it. */
+    size_t iteration;    /**< 1-based iteration number. */
+    int accepted;        /**< 1 if the step was accepted. */
+    double cost;         /**< Cost at the current (accepted) point. */
+    double lambda;       /**< Damping after this iteration. */
+    double rho;          /**< Gain ratio of the step (NaN if not evaluable). */
+    const double *x;     /**< Current parameters. */
+    size_t n_params;     /**< Number of parameters. */
+} brdffit_iteration;
+
+/**
+ * @brief Called after every iteration. Return non-zero to stop the run
+ *        (::BRDFFIT_STOP_CALLBACK).
+ */
+typedef int (*brdffit_iteration_fn)(const brdffit_iteration *info, void *user);
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** @brief The thesis's policy: start 1e-3, double on rejection up to 1, halve on acceptance down to 1e-4. Static; thread-safe. */
+BRDFFIT_API const brdffit_damping *brdffit_damping_thesis(void);
+/** @brief Marquardt's policy: start 1e-3, x10 on rejection, /10 on acceptance. Static; thread-safe. */
+BRDFFIT_API const brdffit_damping *brdffit_damping_marquardt(void);
+/** @brief Nielsen's policy (levmar, GSL): on acceptance lambda *= max(1/3, 1 - (2 rho - 1)^3), nu = 2; on rejection lambda *= nu, nu *= 2. Start 1e-3. The default. Static; thread-safe. */
+BRDFFIT_API const brdffit_damping *brdffit_damping_nielsen(void);
+
+/**
+ * @brief Create an optimizer for @p n_params parameters.
+ * @param[out] out Receives the optimizer (owned by the caller).
+ * @param n_params Number of parameters, 1 .. 4096.
+ * @param alloc    Allocator, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_create(brdffit_optimizer **out, size_t n_params,
+                                                    const brdffit_allocator *alloc,
+                                                    brdffit_error *err);
+
+/** @brief Destroy an optimizer. NULL is a no-op. */
+BRDFFIT_API void brdffit_optimizer_destroy(brdffit_optimizer *opt);
+
+/** @brief Number of parameters; 0 for NULL. */
+BRDFFIT_API size_t brdffit_optimizer_param_count(const brdffit_optimizer *opt);
+
+/**
+ * @brief The message of the last failed call on @p opt, owned by the
+ *        optimizer and valid until the next call on it; "" after success.
+ *        Never NULL.
+ */
+BRDFFIT_API const char *brdffit_optimizer_message(const brdffit_optimizer *opt);
+
+/**
+ * @brief Give the problem in residual form (replaces any earlier problem).
+ * @param n_rows Number of residuals, >= 1.
+ * @param fn     The callback.
+ * @param user   Passed to @p fn; borrowed.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT; ::BRDFFIT_E_OUT_OF_MEMORY.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_residuals(brdffit_optimizer *opt,
+                                                           size_t n_rows,
+                                                           brdffit_residual_fn fn, void *user);
+
+/**
+ * @brief Give the problem in normal-equation form (replaces any earlier
+ *        problem).
+ * @param n_rows Number of residual rows the sums run over (used for the
+ *               residual variance in the covariance), >= 1.
+ * @param fn     The callback.
+ * @param user   Passed to @p fn; borrowed.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_normal(brdffit_optimizer *opt, size_t n_rows,
+                                                        brdffit_normal_fn fn, void *user);
+
+/**
+ * @brief Set the damping policy (copied; its @c user is borrowed).
+ *        NULL restores the default, brdffit_damping_nielsen().
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an incomplete policy.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt,
+                                                         const brdffit_damping *policy);
+
+/**
+ * @brief Set a numeric setting (see ::brdffit_optim_setting for meaning and
+ *        default). A value of 0 restores the default, except for
+ *        ::BRDFFIT_OPT_SCALING where 0 selects Levenberg.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an unknown setting
+ *         or a negative, non-finite or non-integral (for limits) value.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt,
+                                                 brdffit_optim_setting setting, double value);
+
+/** @brief Read a numeric setting. @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT. */
+BRDFFIT_API brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt,
+                                                 brdffit_optim_setting setting, double *value);
+
+/**
+ * @brief Set box bounds (copied). Either pointer may be NULL for no bound on
+ *        that side; entries may be -HUGE_VAL / HUGE_VAL.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT when lower > upper or
+ *         an entry is NaN.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_bounds(brdffit_optimizer *opt,
+                                                        const double *lower,
+                                                        const double *upper);
+
+/**
+ * @brief Hold parameters fixed (copied): non-zero entries of @p mask keep
+ *        that parameter at its start value. NULL frees all.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_fixed(brdffit_optimizer *opt,
+                                                       const unsigned char *mask);
+
+/**
+ * @brief Set the per-iteration callback (NULL removes it); @p user borrowed.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_set_callback(brdffit_optimizer *opt,
+                                                          brdffit_iteration_fn fn, void *user);
+
+/**
+ * @brief Ask a run to stop. Any thread may call this at any time; the run in
+ *        progress (or the next one, if none is) stops before its next
+ *        iteration with ::BRDFFIT_STOP_CANCELLED. The request is consumed
+ *        when a run ends.
+ */
+BRDFFIT_API void brdffit_optimizer_cancel(brdffit_optimizer *opt);
+
+/**
+ * @brief Run the optimizer.
+ *
+ * @param[in,out] x The p start values in; the best point found out (also
+ *                  when a limit, a cancel or the callback ended the run).
+ *                  Start values outside the bounds are moved onto them.
+ * @return ::BRDFFIT_OK when the run ended for one of the reasons of
+ *         ::brdffit_stop_reason (read it with brdffit_optimizer_stop_reason());
+ *         ::BRDFFIT_E_NOT_READY when no problem was set;
+ *         ::BRDFFIT_E_NONFINITE when the start point gives NaN or Inf;
+ *         ::BRDFFIT_E_CALLBACK_FAILED when the problem fails at the start
+ *         point; ::BRDFFIT_E_INVALID_ARGUMENT; ::BRDFFIT_E_OUT_OF_MEMORY.
+ *         On error @p x is unchanged and brdffit_optimizer_message() says why.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double *x);
+
+/** @brief Why the last run ended; ::BRDFFIT_STOP_NONE before a run or after a failed one. */
+BRDFFIT_API brdffit_stop_reason brdffit_optimizer_stop_reason(const brdffit_optimizer *opt);
+
+/** @brief A short static description of a stop reason. Never NULL. Thread-safe. */
+BRDFFIT_API const char *brdffit_stop_reason_string(brdffit_stop_reason reason);
+
+/** @brief Cost at the start point of the last run; NaN before a run. */
+BRDFFIT_API double brdffit_optimizer_initial_cost(const brdffit_optimizer *opt);
+
+/** @brief Cost at the returned point of the last run; NaN before a run. */
+BRDFFIT_API double brdffit_optimizer_final_cost(const brdffit_optimizer *opt);
+
+/** @brief Iterations (accepted and rejected steps) of the last run. */
+BRDFFIT_API size_t brdffit_optimizer_iterations(const brdffit_optimizer *opt);
+
+/** @brief Problem evaluations of the last run (the start point included). */
+BRDFFIT_API size_t brdffit_optimizer_evaluations(const brdffit_optimizer *opt);
+
+/** @brief The last iteration that lowered the cost; 0 if none did. */
+BRDFFIT_API size_t brdffit_optimizer_last_improvement(const brdffit_optimizer *opt);
+
+/** @brief Whether any step of the last run fell back from Cholesky to the eigen-decomposition. */
+BRDFFIT_API int brdffit_optimizer_used_fallback(const brdffit_optimizer *opt);
+
+/**
+ * @brief Cost and lambda per iteration of the last run.
+ * @param opt      The optimizer.
+ * @param[out] cost NULL, or brdffit_optimizer_iterations() + 1 values: the
+ *                 start cost, then the cost after each iteration.
+ * @param[out] lambda NULL, or brdffit_optimizer_iterations() + 1 values: the
+ *                 start lambda, then lambda after each iteration.
+ * @return The number of values (iterations + 1); 0 before a run.
+ */
+BRDFFIT_API size_t brdffit_optimizer_history(const brdffit_optimizer *opt, double *cost,
+                                             double *lambda);
+
+/**
+ * @brief Estimate of the 2-norm condition number of J^T J at the returned
+ *        point, over the free parameters; HUGE_VAL when singular, NaN
+ *        before a run.
+ */
+BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
+
+/**
+ * @brief Covariance of the parameters at the returned point:
+ *        s^2 (J^T J)^+ with s^2 = cost / (n_rows - n_free), over the free
+ *        parameters; rows and columns of fixed parameters, and of
+ *        parameters at an active bound, are 0.
+ * @param[out] cov p x p values, row-major.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
+ *         ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt,
+                                                        double *cov);
+
+/**
+ * @brief Standard errors: the square roots of the covariance diagonal.
+ * @param[out] se p values.
+ * @return As brdffit_optimizer_covariance().
+ */
+BRDFFIT_API brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt,
+                                                        double *se);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+
+#endif /* BRDFFIT_OPTIM_H */
