@@ -1,0 +1,93 @@
+/* Derived per-sample geometry (SPEC section 2): light, view and half
+ * vectors and the guarded dot products the model kernels stream. */
+#include <math.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "grid/grid_internal.h"
+
+enum { BF_GEOMETRY_ARRAYS = 12 };
+
+int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n)
+{
+    size_t count;
+    double *p;
+    memset(g, 0, sizeof *g);
+    if (!bf_mul_size(n, BF_GEOMETRY_ARRAYS, &count)) return 0;
+    p = bf_calloc(a, count, sizeof(double));
+    if (p == NULL) return 0;
+    g->block = p;
+    g->lx = p;
+    g->ly = p + n;
+    g->lz = p + 2 * n;
+    g->vx = p + 3 * n;
+    g->vy = p + 4 * n;
+    g->vz = p + 5 * n;
+    g->nl = p + 6 * n;
+    g->nv = p + 7 * n;
+    g->nh = p + 8 * n;
+    g->hv = p + 9 * n;
+    g->log_nh = p + 10 * n;
+    g->rv = p + 11 * n;
+    return 1;
+}
+
+void bf_geometry_free(bf_geometry *g, const brdffit_allocator *a)
+{
+    bf_free(a, g->block);
+    memset(g, 0, sizeof *g);
+}
+
+static double clamp_dot(double x)
+{
+    if (!(x >= BF_DOT_FLOOR)) return BF_DOT_FLOOR; /* also catches NaN */
+    return x > 1.0 ? 1.0 : x;
+}
+
+void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, double theta_o,
+                     double phi_o)
+{
+    double lx = sin(theta_i) * cos(phi_i), ly = sin(theta_i) * sin(phi_i), lz = cos(theta_i);
+    double vx = sin(theta_o) * cos(phi_o), vy = sin(theta_o) * sin(phi_o), vz = cos(theta_o);
+    double hx = lx + vx, hy = ly + vy, hz = lz + vz;
+    double len = sqrt(hx * hx + hy * hy + hz * hz);
+    if (len > 1e-12) {
+        hx /= len;
+        hy /= len;
+        hz /= len;
+    } else { /* light and view exactly opposite: no half vector, use n */
+        hx = 0.0;
+        hy = 0.0;
+        hz = 1.0;
+    }
+    g->lx[s] = lx;
+    g->ly[s] = ly;
+    g->lz[s] = lz;
+    g->vx[s] = vx;
+    g->vy[s] = vy;
+    g->vz[s] = vz;
+    g->nl[s] = clamp_dot(lz);
+    g->nv[s] = clamp_dot(vz);
+    g->nh[s] = clamp_dot(hz);
+    g->hv[s] = clamp_dot(hx * vx + hy * vy + hz * vz);
+    g->log_nh[s] = log(g->nh[s]);
+    g->rv[s] = -lx * vx - ly * vy + lz * vz;
+}
+
+void bf_geometry_batch(const bf_geometry *g, size_t first, size_t count, brdffit_batch *out)
+{
+    out->struct_size = sizeof *out;
+    out->n = count;
+    out->lx = g->lx + first;
+    out->ly = g->ly + first;
+    out->lz = g->lz + first;
+    out->vx = g->vx + first;
+    out->vy = g->vy + first;
+    out->vz = g->vz + first;
+    out->nl = g->nl + first;
+    out->nv = g->nv + first;
+    out->nh = g->nh + first;
+    out->hv = g->hv + first;
+    out->log_nh = g->log_nh + first;
+    out->rv = g->rv + first;
+}
