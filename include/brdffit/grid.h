@@ -28,6 +28,12 @@
  *   weights; their stored value is 0.
  * - The grid copies everything it is given; the caller's arrays may be
  *   freed as soon as a creation function returns.
+ * - Angle caps: a sample is within a cap when theta_i <= cap + 1e-9 and
+ *   theta_o <= cap + 1e-9 (radians), so a cap computed from degrees still
+ *   includes the axis value it names.
+ * - Handles: functions given NULL return ::BRDFFIT_E_INVALID_ARGUMENT (or 0);
+ *   a handle whose magic number is wrong (destroyed, or not a grid) gives
+ *   ::BRDFFIT_E_BAD_HANDLE (or 0) where this can be detected.
  */
 #ifndef BRDFFIT_GRID_H
 #define BRDFFIT_GRID_H
@@ -111,11 +117,15 @@ BRDFFIT_API const brdffit_axes *brdffit_axes_default(void);
  * @param alloc           Allocator for the grid's whole life, or NULL.
  * @param[out] err        NULL, or receives the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL pointers, zero
- *         sizes or unsorted axes; ::BRDFFIT_E_RANGE for angles out of range
- *         or values that are negative or not finite;
- *         ::BRDFFIT_E_TOO_LARGE when the sizes overflow;
- *         ::BRDFFIT_E_OUT_OF_MEMORY.
- * @note Thread-safe.
+ *         sizes, an allocator lacking a function, or axes that are not
+ *         strictly increasing; ::BRDFFIT_E_RANGE for angles out of range
+ *         or (non-missing) values that are negative or not finite; the
+ *         message names the axis index or the sample and channel;
+ *         ::BRDFFIT_E_TOO_LARGE when the sizes overflow (checked before any
+ *         array is read); ::BRDFFIT_E_OUT_OF_MEMORY.
+ * @note Every derived quantity (directions, half vector, clamped dot
+ *       products) is computed once here and stays finite at grazing angles.
+ *       Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_create_regular(brdffit_grid **out,
                                                        const brdffit_axes *axes,
@@ -137,12 +147,16 @@ BRDFFIT_API brdffit_status brdffit_grid_create_regular(brdffit_grid **out,
  * @param values          n_samples * n_channels values, interleaved (copied).
  * @param missing         NULL, or one byte per value; non-zero = missing.
  * @param weights         NULL for uniform solid-angle weights, or one
- *                        finite weight >= 0 per sample (copied).
+ *                        finite weight >= 0 per sample (copied), in the
+ *                        input order.
  * @param alloc           Allocator for the grid's whole life, or NULL.
  * @param[out] err        NULL, or receives the detail on failure.
  * @return As brdffit_grid_create_regular().
- * @note The samples are stored sorted by max(theta_i, theta_o); see the
- *       file comment. Thread-safe.
+ * @note The samples are stored sorted by max(theta_i, theta_o), ascending
+ *       and stable (samples with equal keys keep their input order); see
+ *       the file comment. The angles themselves are not stored: they are
+ *       recovered from the directions (brdffit_grid_sample_angles()).
+ *       O(n) work besides the per-sample geometry. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_create_scattered(brdffit_grid **out,
                                                          size_t n_samples,
@@ -158,7 +172,8 @@ BRDFFIT_API brdffit_status brdffit_grid_create_scattered(brdffit_grid **out,
                                                          brdffit_error *err);
 
 /**
- * @brief Destroy a grid and free all its memory. NULL is a no-op.
+ * @brief Destroy a grid and free all its memory through its allocator.
+ *        NULL, and a handle that is not a live grid, are ignored.
  * @note Not thread-safe with respect to other uses of the same grid.
  */
 BRDFFIT_API void brdffit_grid_destroy(brdffit_grid *grid);
@@ -183,7 +198,8 @@ BRDFFIT_API size_t brdffit_grid_missing_count(const brdffit_grid *grid);
  *                   by the grid and valid until it is destroyed.
  * @param[out] count Receives the number of values.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments or an
- *         unknown axis; ::BRDFFIT_E_UNSUPPORTED for a scattered grid.
+ *         unknown axis; ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_UNSUPPORTED for
+ *         a scattered grid.
  * @note Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_axis(const brdffit_grid *grid, brdffit_axis axis,
@@ -192,9 +208,13 @@ BRDFFIT_API brdffit_status brdffit_grid_axis(const brdffit_grid *grid, brdffit_a
 /**
  * @brief The light and view directions of one sample, in radians.
  *
- * For a regular grid phi_i is pi. Any output pointer may be NULL.
+ * For a regular grid these are exactly the axis values, and phi_i is pi.
+ * For a scattered grid they are recovered from the stored unit vectors:
+ * theta = atan2(sqrt(x^2 + y^2), z), phi = atan2(y, x), so they describe
+ * the same directions as the input (to rounding), with phi in [-pi, pi].
+ * Any output pointer may be NULL.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for a NULL grid or a
- *         sample index out of range. Thread-safe.
+ *         sample index out of range; ::BRDFFIT_E_BAD_HANDLE. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_sample_angles(const brdffit_grid *grid, size_t sample,
                                                       double *theta_i, double *phi_i,
@@ -207,7 +227,8 @@ BRDFFIT_API brdffit_status brdffit_grid_sample_angles(const brdffit_grid *grid, 
  * @param[out] values Receives a pointer to brdffit_grid_sample_count()
  *                    values in sample order (missing ones read 0), owned by
  *                    the grid and valid until it is destroyed.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT. Thread-safe.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_BAD_HANDLE. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_values(const brdffit_grid *grid, size_t channel,
                                                const double **values);
@@ -221,24 +242,38 @@ BRDFFIT_API int brdffit_grid_is_missing(const brdffit_grid *grid, size_t sample,
                                         size_t channel);
 
 /**
- * @brief Number of samples with theta_i <= cap and theta_o <= cap.
+ * @brief Number of samples with theta_i <= cap and theta_o <= cap (with
+ *        the tolerance of the file comment).
+ *
+ * For a scattered grid these are the first samples in stored order.
  * @param grid The grid.
  * @param cap  Angle cap in radians, 0 .. pi/2.
- * @return The count; 0 for NULL or a cap outside its range. Thread-safe.
+ * @return The count; 0 for NULL or a cap outside its range. O(log n).
+ *         Thread-safe.
  */
 BRDFFIT_API size_t brdffit_grid_active_count(const brdffit_grid *grid, double cap);
 
 /**
  * @brief The residual weight of every sample (SPEC section 2, eq. 4.25).
  *
- * out[s] is the factor that multiplies (measured - model) in the residual:
- * for a regular grid w_s * cos(theta_i) / sum(w), with w_s the solid angle
- * of the sample's view cell (halved on the border of the stored region,
- * quartered at corners, cut at @p cap), normalised by the sum of the cell
- * solid angles of one view hemisphere (pi (1 - cos cap) for the full
- * quarter sphere). For a scattered grid w_s is the given weight (or 1),
- * normalised by the mean of the active samples' weights. Factors that are
- * switched off by @p flags are 1. Samples beyond the cap get 0.
+ * out[s] is the factor that multiplies (measured - model) in the residual,
+ * the product of two factors, each 1 when switched off by @p flags:
+ * - ::BRDFFIT_WEIGHT_SOLID_ANGLE, regular grid: the solid angle of the
+ *   sample's view cell divided by the sum of the cells within the cap of
+ *   one view hemisphere (one theta_i). The cell of (theta_o[j], phi_o[k])
+ *   spans (phi_hi - phi_lo) * (cos theta_lo - cos theta_hi): in theta from
+ *   theta_o[0] (j = 0) or the midpoint to the previous value, to the
+ *   midpoint to the next value; the last value within the cap ends at
+ *   min(cap, midpoint to the next value), or at itself when it is the last
+ *   axis value. In phi likewise from phi_o[0] to phi_o[last] with midpoints
+ *   between. So border cells are halves and corners quarters, and a full
+ *   0..pi/2 x 0..pi axis set with a cap c on or below the midpoint after an
+ *   axis value sums to exactly pi (1 - cos c).
+ * - ::BRDFFIT_WEIGHT_SOLID_ANGLE, scattered grid: the given weight of the
+ *   sample (or 1) divided by the sum of the given weights of the samples
+ *   within the cap.
+ * - ::BRDFFIT_WEIGHT_COSINE: max(cos theta_i, 0).
+ * Samples beyond the cap get 0. Missing values do not change the weights.
  *
  * @param grid     The grid.
  * @param cap      Angle cap in radians, 0 .. pi/2.
@@ -246,8 +281,12 @@ BRDFFIT_API size_t brdffit_grid_active_count(const brdffit_grid *grid, double ca
  * @param[out] out brdffit_grid_sample_count() doubles.
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments, a
- *         cap out of range or unknown flags; ::BRDFFIT_E_NO_DATA when no
- *         sample lies within the cap. Thread-safe.
+ *         cap out of range or unknown flags; ::BRDFFIT_E_BAD_HANDLE;
+ *         ::BRDFFIT_E_NO_DATA when no sample lies within the cap, or when
+ *         the solid-angle weights within it sum to 0 (for example a cap
+ *         of 0, or given weights that are all 0); ::BRDFFIT_E_OUT_OF_MEMORY
+ *         (a few per-axis values are allocated through the grid's
+ *         allocator). Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_weights(const brdffit_grid *grid, double cap,
                                                 unsigned flags, double *out,
@@ -258,13 +297,15 @@ BRDFFIT_API brdffit_status brdffit_grid_weights(const brdffit_grid *grid, double
  *        thesis's monochrome stage, eq. 4.26).
  *
  * Missing values are left out of each mean; a sample whose values are all
- * missing is missing in the result.
- * @param[out] out Receives the new grid (owned by the caller).
+ * missing is missing in the result. Everything else (axes, sample order,
+ * directions, given sample weights) is copied from @p grid.
+ * @param[out] out Receives the new grid (owned by the caller); NULL on
+ *                 failure.
  * @param grid     The source grid.
  * @param alloc    Allocator for the new grid, or NULL.
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
- *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ *         ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_channel_mean(brdffit_grid **out,
                                                      const brdffit_grid *grid,
@@ -276,16 +317,21 @@ BRDFFIT_API brdffit_status brdffit_grid_channel_mean(brdffit_grid **out,
  *        every value divided by (1 - F(theta_i)), F the Schlick Fresnel
  *        term F = r0 + (1 - r0) (1 - cos theta_i)^5.
  *
+ * The Fresnel angle is the light's polar angle theta_i of each sample.
  * cos theta_i is clamped to at least 1e-4, so the divisor stays positive at
- * grazing light.
- * @param[out] out Receives the new grid (owned by the caller).
+ * grazing light. Missing values stay missing; everything but the values is
+ * copied from @p grid.
+ * @param[out] out Receives the new grid (owned by the caller); NULL on
+ *                 failure.
  * @param grid     The source grid.
  * @param r0       Reflection coefficient of the coat at normal incidence,
  *                 0 <= r0 < 1.
  * @param alloc    Allocator for the new grid, or NULL.
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (also for r0 outside
- *         [0, 1)); ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ *         [0, 1)); ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_RANGE when a
+ *         compensated value overflows; ::BRDFFIT_E_OUT_OF_MEMORY.
+ *         Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdffit_grid *grid,
                                                   double r0, const brdffit_allocator *alloc,
@@ -295,11 +341,14 @@ BRDFFIT_API brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdf
  * @brief The measured BRDF at an arbitrary light/view pair, interpolated
  *        from a regular grid.
  *
- * Isotropy reduces the pair to (theta_i, theta_o, |phi_o - phi_i|), which is
- * folded into the stored quarter sphere; reciprocity swaps light and view
- * when only the swapped pair lies inside the theta_i axis. Values are
- * interpolated trilinearly; missing neighbours are left out and the others
- * renormalised; angles beyond an axis are clamped to its end.
+ * Isotropy reduces the pair to (theta_i, theta_o, d), d = |phi_o - phi_i|
+ * wrapped into [0, pi]; with the light at azimuth pi the stored azimuth is
+ * pi - d (so phi_i = pi and a stored phi_o address the node exactly).
+ * Reciprocity swaps light and view when theta_i lies outside the theta_i
+ * axis range and theta_o inside it. Values are interpolated trilinearly;
+ * neighbours with zero weight or a missing value are left out and the
+ * others renormalised, so a node returns its stored value exactly; angles
+ * beyond an axis are clamped to its end.
  *
  * @param grid        A regular grid.
  * @param theta_i,phi_i Light direction, radians.
@@ -307,9 +356,10 @@ BRDFFIT_API brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdf
  * @param[out] out    brdffit_grid_channel_count() values.
  * @param[out] err    NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL arguments or
- *         non-finite angles; ::BRDFFIT_E_UNSUPPORTED for a scattered grid;
- *         ::BRDFFIT_E_NO_DATA when every neighbour is missing (out is then
- *         all 0). Thread-safe.
+ *         non-finite angles; ::BRDFFIT_E_BAD_HANDLE;
+ *         ::BRDFFIT_E_UNSUPPORTED for a scattered grid; ::BRDFFIT_E_NO_DATA
+ *         when every neighbour of some channel is missing: those channels
+ *         read 0, the others are still interpolated. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_grid_eval(const brdffit_grid *grid, double theta_i,
                                              double phi_i, double theta_o, double phi_o,

@@ -44,6 +44,12 @@ static double clamp_dot(double x)
     return x > 1.0 ? 1.0 : x;
 }
 
+/* Rounding can push a cosine of unit vectors just past +-1. */
+static double clamp_unit(double x)
+{
+    return x > 1.0 ? 1.0 : (x < -1.0 ? -1.0 : x);
+}
+
 void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, double theta_o,
                      double phi_o)
 {
@@ -71,7 +77,7 @@ void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, dou
     g->nh[s] = clamp_dot(hz);
     g->hv[s] = clamp_dot(hx * vx + hy * vy + hz * vz);
     g->log_nh[s] = log(g->nh[s]);
-    g->rv[s] = -lx * vx - ly * vy + lz * vz;
+    g->rv[s] = clamp_unit(-lx * vx - ly * vy + lz * vz);
 }
 
 void bf_geometry_batch(const bf_geometry *g, size_t first, size_t count, brdffit_batch *out)
