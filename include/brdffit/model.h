@@ -17,6 +17,15 @@
  * Models are evaluated over a batch of samples in structure-of-arrays form
  * (::brdffit_batch), never one sample per call.
  *
+ * Handles: functions given a NULL model or grid return
+ * ::BRDFFIT_E_INVALID_ARGUMENT; a non-NULL handle that is not a live model
+ * (or grid) is detected where possible and gives ::BRDFFIT_E_BAD_HANDLE.
+ *
+ * The built-in models, their formulas as implemented, parameters, ranges,
+ * defaults and flags are listed in docs/models.md. All built-in models
+ * declare their shared shape parameters first, then their per-channel
+ * linear colours.
+ *
  * A model handle is immutable: every function taking a const model is
  * thread-safe, provided the evaluation callback of a user model is.
  */
@@ -114,13 +123,21 @@ typedef brdffit_status (*brdffit_model_eval_fn)(const brdffit_batch *batch,
  *
  * Initialise with ::BRDFFIT_MODEL_DEF_INIT (or brdffit_model_def_init())
  * and then set the fields; fields are only ever appended, and
- * @c struct_size tells the library which exist.
+ * @c struct_size tells the library which exist (it must cover at least
+ * every field of this version; a larger size from a newer header is
+ * accepted and the unknown fields are ignored).
  *
- * A parameter flagged ::BRDFFIT_PARAM_LINEAR must be per-channel, and the
- * model's value must be a sum of such parameters times terms that depend
- * only on the geometry and on the non-linear parameters (so the value is
- * the sum over linear parameters of parameter times derivative). Fits use
- * this to solve for those parameters exactly.
+ * A parameter flagged ::BRDFFIT_PARAM_LINEAR must also be flagged
+ * ::BRDFFIT_PARAM_PER_CHANNEL (brdffit_model_create_custom() rejects it
+ * otherwise), and the model's value must be a sum of such parameters times
+ * terms that depend only on the geometry and on the non-linear parameters
+ * (so the value is the sum over linear parameters of parameter times
+ * derivative). Fits use this to solve for those parameters exactly; the
+ * library cannot verify it, so a wrong LINEAR flag gives wrong fits.
+ *
+ * Limits: 1 .. 1024 parameters with unique, non-empty names; no NaN
+ * bounds; a finite start with lower <= start <= upper; only the flag bits
+ * of ::brdffit_param_flags.
  */
 typedef struct brdffit_model_def {
     size_t struct_size;              /**< sizeof(brdffit_model_def). */
@@ -153,7 +170,10 @@ typedef struct brdffit_jacobian_report {
 extern "C" {
 #endif
 
-/** @brief Fill @p def with the defaults of ::BRDFFIT_MODEL_DEF_INIT. NULL is a no-op. */
+/**
+ * @brief Fill @p def with the defaults of ::BRDFFIT_MODEL_DEF_INIT. NULL is
+ *        a no-op. Thread-safe.
+ */
 BRDFFIT_API void brdffit_model_def_init(brdffit_model_def *def);
 
 /** @brief Number of built-in models. Thread-safe. */
@@ -167,8 +187,10 @@ BRDFFIT_API const char *brdffit_model_builtin_name(size_t index);
 
 /**
  * @brief Create a built-in model by name ("ashikhmin-shirley", "ggx", ...).
- * @param[out] out Receives the model (owned by the caller); NULL on failure.
- * @param name     A name from brdffit_model_builtin_name().
+ * @param[out] out Receives the model (owned by the caller, release it with
+ *                 brdffit_model_destroy()); NULL on failure.
+ * @param name     A name from brdffit_model_builtin_name() (exact,
+ *                 case-sensitive).
  * @param alloc    Allocator, or NULL.
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_FOUND for an unknown name;
@@ -181,20 +203,32 @@ BRDFFIT_API brdffit_status brdffit_model_create(brdffit_model **out, const char 
 
 /**
  * @brief Create a model from a user definition. Everything in @p def is
- *        copied except @c user, which the model keeps and hands to
- *        @c destroy when the model is destroyed. On failure @c destroy is
- *        not called and @c user stays the caller's.
+ *        copied (the name and the parameter table with its names) except
+ *        @c user, which the model keeps and hands to @c destroy when the
+ *        model is destroyed. On failure @c destroy is not called and
+ *        @c user stays the caller's.
+ * @param[out] out Receives the model (owned by the caller); NULL on failure.
+ * @param def      The definition (see ::brdffit_model_def for the rules).
+ * @param alloc    Allocator for the model's whole life, or NULL.
+ * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for a NULL or
- *         inconsistent definition (unknown struct size, no parameters,
- *         duplicate names, bad bounds or flags); ::BRDFFIT_E_OUT_OF_MEMORY.
- *         Thread-safe.
+ *         inconsistent definition (struct size too small, no name, no or
+ *         too many parameters, NULL params or eval, missing or duplicate
+ *         parameter names, NaN bounds, a start outside its bounds or not
+ *         finite, a log-scale parameter with lower <= 0, a linear parameter
+ *         that is not per-channel, unknown flag bits) or an incomplete
+ *         allocator; ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_create_custom(brdffit_model **out,
                                                        const brdffit_model_def *def,
                                                        const brdffit_allocator *alloc,
                                                        brdffit_error *err);
 
-/** @brief Destroy a model; calls its destroy callback. NULL is a no-op. */
+/**
+ * @brief Destroy a model; calls its destroy callback exactly once. NULL (or
+ *        a handle that is not a live model) is a no-op.
+ * @note Not thread-safe with respect to other uses of the same model.
+ */
 BRDFFIT_API void brdffit_model_destroy(brdffit_model *model);
 
 /** @brief The model's name, owned by the model; NULL for NULL. Thread-safe. */
@@ -211,28 +245,44 @@ BRDFFIT_API const brdffit_param_info *brdffit_model_param(const brdffit_model *m
                                                           size_t index);
 
 /**
- * @brief Find a parameter by name.
- * @return ::BRDFFIT_OK and its index in @p index; ::BRDFFIT_E_NOT_FOUND;
- *         ::BRDFFIT_E_INVALID_ARGUMENT. Thread-safe.
+ * @brief Find a parameter by name (exact, case-sensitive).
+ * @return ::BRDFFIT_OK and its index in @p index (left untouched
+ *         otherwise); ::BRDFFIT_E_NOT_FOUND; ::BRDFFIT_E_INVALID_ARGUMENT
+ *         for NULL arguments; ::BRDFFIT_E_BAD_HANDLE. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_param_find(const brdffit_model *model,
                                                     const char *name, size_t *index);
 
-/** @brief Length of the parameter vector for @p n_channels channels; 0 on bad input. */
+/**
+ * @brief Length of the parameter vector for @p n_channels channels: one
+ *        entry per shared parameter, n_channels per per-channel one.
+ * @return The length; 0 for a NULL model, n_channels = 0 or overflow.
+ *         Thread-safe.
+ */
 BRDFFIT_API size_t brdffit_model_vector_size(const brdffit_model *model, size_t n_channels);
 
 /**
  * @brief Position of parameter @p param, channel @p channel, in the
  *        parameter vector. @p channel is ignored for shared parameters.
- * @return The index, or (size_t)-1 on bad input. Thread-safe.
+ *
+ * The entries of the declared parameters follow one another in
+ * declaration order; a per-channel parameter's channel c is at its first
+ * entry + c.
+ * @return The index, or (size_t)-1 on bad input (NULL model, n_channels =
+ *         0, param out of range, or channel >= n_channels for a
+ *         per-channel parameter). Thread-safe.
  */
 BRDFFIT_API size_t brdffit_model_vector_index(const brdffit_model *model, size_t param,
                                               size_t channel, size_t n_channels);
 
 /**
- * @brief Fill @p params with every parameter's default start value.
- * @param params brdffit_model_vector_size() doubles.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT. Thread-safe.
+ * @brief Fill @p params with every parameter's default start value (every
+ *        channel of a per-channel parameter gets the same value).
+ * @param model      The model.
+ * @param n_channels Number of channels, 1 or more.
+ * @param[out] params brdffit_model_vector_size() doubles.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_BAD_HANDLE. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_default_params(const brdffit_model *model,
                                                         size_t n_channels, double *params);
@@ -241,13 +291,25 @@ BRDFFIT_API brdffit_status brdffit_model_default_params(const brdffit_model *mod
  * @brief Evaluate a model over grid samples [first, first + count).
  *
  * The grid's channel count is the model's; output layouts as in
- * ::brdffit_model_eval_fn with batch->n = @p count.
- * @param values   count * n_channels doubles.
- * @param jacobian NULL, or n_params * n_channels * count doubles.
+ * ::brdffit_model_eval_fn with batch->n = @p count. The whole range is
+ * handed to the model in one call, writing straight into the caller's
+ * arrays; nothing is allocated. count = 0 does nothing.
+ * @param model    The model.
+ * @param grid     The grid whose samples' geometry is used.
+ * @param first    First sample.
+ * @param count    Number of samples; first + count <= the grid's sample count.
+ * @param params   brdffit_model_vector_size() values for the grid's channels.
+ * @param[out] values   count * n_channels doubles.
+ * @param[out] jacobian NULL, or n_params * n_channels * count doubles.
+ * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (NULL, range outside
- *         the grid); ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE when
- *         the model produced NaN or Inf; ::BRDFFIT_E_OUT_OF_MEMORY.
- *         Thread-safe.
+ *         the grid); ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_MODEL_FAILED when
+ *         the callback returned an error (the message names the model and
+ *         the status it returned); ::BRDFFIT_E_NONFINITE when a parameter
+ *         is NaN or infinite, or the model produced NaN or Inf (the message
+ *         names the model, the grid sample, the channel and, for a
+ *         derivative, the parameter); ::BRDFFIT_E_TOO_LARGE when the sizes
+ *         overflow. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_eval_grid(const brdffit_model *model,
                                                    const brdffit_grid *grid, size_t first,
@@ -258,10 +320,23 @@ BRDFFIT_API brdffit_status brdffit_model_eval_grid(const brdffit_model *model,
 /**
  * @brief Evaluate a model at arbitrary directions (radians).
  *
- * Angle arrays hold @p count entries each; layouts as in
- * ::brdffit_model_eval_fn with batch->n = @p count.
- * @return As brdffit_model_eval_grid(); also ::BRDFFIT_E_RANGE for polar
- *         angles outside [0, pi/2] or non-finite angles. Thread-safe.
+ * Angle arrays hold @p count entries each (polar angles in [0, pi/2],
+ * azimuths any finite value); layouts as in ::brdffit_model_eval_fn with
+ * batch->n = @p count. The geometry of the batch is derived as for a grid
+ * and allocated through the model's allocator for the duration of the call.
+ * @param model         The model.
+ * @param count         Number of direction pairs.
+ * @param theta_i,phi_i Light directions.
+ * @param theta_o,phi_o View directions.
+ * @param n_channels    Number of channels, 1 or more.
+ * @param params        brdffit_model_vector_size() values for n_channels.
+ * @param[out] values   count * n_channels doubles.
+ * @param[out] jacobian NULL, or n_params * n_channels * count doubles.
+ * @param[out] err      NULL, or the detail on failure.
+ * @return As brdffit_model_eval_grid() (sample numbers in messages are
+ *         array indices); also ::BRDFFIT_E_RANGE for polar angles outside
+ *         [0, pi/2] or non-finite angles; ::BRDFFIT_E_INVALID_ARGUMENT for
+ *         n_channels = 0; ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_eval_angles(const brdffit_model *model, size_t count,
                                                      const double *theta_i, const double *phi_i,
@@ -274,16 +349,37 @@ BRDFFIT_API brdffit_status brdffit_model_eval_angles(const brdffit_model *model,
  * @brief Compare a model's analytic Jacobian with central differences over
  *        every sample of a grid at one parameter vector.
  *
- * The relative error of one entry is |analytic - numeric| / max(|numeric|,
- * 1e-6 * s), s the largest |numeric| of that parameter and channel over the
- * grid; the step for parameter x is 1e-6 * max(|x|, 1e-3). The worst entry
- * is reported.
+ * The step for a parameter entry x is h = 1e-6 * max(|x|, 1e-3). The
+ * numeric derivative is the central difference (f(x+h) - f(x-h)) / 2h
+ * when x - h and x + h lie within the parameter's bounds; near a bound it
+ * is the second-order one-sided difference on the side with room for two
+ * steps, (-3 f(x) + 4 f(x+h) - f(x+2h)) / 2h or its mirror image, so the
+ * model is never evaluated outside its bounds. An entry whose bounds leave
+ * room for neither is not checked. A per-channel entry is compared on its
+ * own channel only.
+ *
+ * A numeric derivative is only as exact as the values it is made from: it
+ * carries a rounding error of about r = 16 eps sum|w_i f_i| / 2h (eps the
+ * double epsilon, w_i and f_i the stencil's weights and values), which
+ * dominates where values are large (grazing samples). The relative error
+ * of one entry is therefore
+ * max(0, |analytic - numeric| - r) / max(|numeric|, 1e-6 * s),
+ * s the largest |numeric| - r of that parameter and channel over the grid
+ * (the absolute excess when the denominator is 0). The worst entry is
+ * reported. The grid is walked in chunks, so memory use does not grow with
+ * its size; allocation goes through the model's allocator.
+ * @param model  The model.
  * @param grid   Geometry to check on; its channel count is used.
- * @param params brdffit_model_vector_size() values.
+ * @param params brdffit_model_vector_size() values, each finite and
+ *               within its parameter's bounds.
  * @param[out] report Receives the worst entry; set its struct_size first.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
- *         ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE;
- *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ *               Unspecified on failure.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (NULL arguments, a
+ *         report struct_size too small, a parameter outside its bounds or
+ *         not finite); ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_MODEL_FAILED;
+ *         ::BRDFFIT_E_NONFINITE; ::BRDFFIT_E_OUT_OF_MEMORY;
+ *         ::BRDFFIT_E_TOO_LARGE. Thread-safe.
  */
 BRDFFIT_API brdffit_status brdffit_model_check_jacobian(const brdffit_model *model,
                                                         const brdffit_grid *grid,

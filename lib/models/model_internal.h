@@ -27,4 +27,11 @@ brdffit_status bf_model_eval(const brdffit_model *m, const brdffit_batch *batch,
                              const double *params, size_t n_channels, double *values,
                              double *jacobian, brdffit_error *err);
 
+/* Check the outputs of an evaluation of n samples for NaN and Inf:
+ * BRDFFIT_E_NONFINITE with a message naming the model, the parameter (for
+ * a derivative), the sample (its index plus `offset`) and the channel. */
+brdffit_status bf_model_check_outputs(const brdffit_model *m, size_t n, size_t n_channels,
+                                      const double *values, const double *jacobian,
+                                      size_t offset, brdffit_error *err);
+
 #endif /* BRDFFIT_MODEL_INTERNAL_H */

@@ -1,0 +1,97 @@
+/* The built-in model kernels (SPEC section 3). Not installed.
+ *
+ * Every built-in model has the form
+ *
+ *     value_c(s) = sum over linear parameters m of p_{m,c} * B_m(s; theta)
+ *
+ * where theta are the shared shape parameters (exponents, roughness, Fresnel
+ * terms) and p_{m,c} the per-channel linear colours. A kernel only computes
+ * the basis functions B_m and their derivatives dB_m/dtheta_k for a block of
+ * samples; bf_kernel_run() turns them into values and a Jacobian for every
+ * channel with plain multiply-adds, so no transcendental function is ever
+ * evaluated per channel.
+ *
+ * Built-in models declare their shape parameters first, then their linear
+ * (per-channel) parameters, so the parameter vector is
+ * [theta_0 .. theta_{K-1}, p_{0,0} .. p_{0,C-1}, p_{1,0} ..]. */
+#ifndef BRDFFIT_MODELS_KERNEL_H
+#define BRDFFIT_MODELS_KERNEL_H
+
+#include <stddef.h>
+
+#include "brdffit/model.h"
+
+/* Samples per basis block (the buffers live on the stack). */
+#define BF_KERNEL_BLOCK 64
+#define BF_KERNEL_MAX_SHAPE 3
+#define BF_KERNEL_MAX_LINEAR 3
+
+/* Basis values b[m][i] and derivatives db[k][m][i] of one block. Entries
+ * whose (k, m) pair is not in the kernel's dependency mask are never read. */
+typedef struct bf_basis {
+    double b[BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
+    double db[BF_KERNEL_MAX_SHAPE][BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
+} bf_basis;
+
+/* Fill the basis of samples [first, first + count) of the batch
+ * (count <= BF_KERNEL_BLOCK) for the shape parameters `shape`. */
+typedef void (*bf_basis_fn)(const brdffit_batch *batch, size_t first, size_t count,
+                            const double *shape, bf_basis *out);
+
+typedef struct bf_kernel {
+    size_t n_shape;                    /* K <= BF_KERNEL_MAX_SHAPE */
+    size_t n_linear;                   /* L <= BF_KERNEL_MAX_LINEAR */
+    unsigned dep[BF_KERNEL_MAX_SHAPE]; /* bit m set: B_m depends on shape k */
+    bf_basis_fn basis;
+} bf_kernel;
+
+/* Evaluate a kernel over a batch with the layouts of brdffit_model_eval_fn. */
+brdffit_status bf_kernel_run(const bf_kernel *k, const brdffit_batch *batch, const double *params,
+                             size_t n_channels, double *values, double *jacobian);
+
+/* A built-in model: its name, its parameters and its evaluation callback. */
+typedef struct bf_builtin {
+    const char *name;
+    size_t n_params;
+    const brdffit_param_info *params;
+    brdffit_model_eval_fn eval;
+} bf_builtin;
+
+/* Branch-free min and max for finite arguments (compile to minsd/maxsd and
+ * vectorise, unlike fmin/fmax with their NaN rules). */
+static inline double bf_min(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static inline double bf_max(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+/* Parameter ranges shared by the built-in models. */
+#define BF_EXP_LO 1e-3
+#define BF_EXP_HI 1e6
+#define BF_ROUGH_LO 1e-4
+#define BF_ROUGH_HI 1.0
+
+/* kernel_lambert_phong.c */
+extern const bf_builtin bf_builtin_lambert;
+extern const bf_builtin bf_builtin_phong;
+extern const bf_builtin bf_builtin_blinn_phong;
+/* kernel_ashikhmin.c */
+extern const bf_builtin bf_builtin_ashikhmin_shirley;
+extern const bf_builtin bf_builtin_ashikhmin_shirley_fresnel;
+extern const bf_builtin bf_builtin_ashikhmin_shirley_2;
+/* kernel_microfacet.c */
+extern const bf_builtin bf_builtin_cook_torrance;
+extern const bf_builtin bf_builtin_ggx;
+extern const bf_builtin bf_builtin_cook_torrance_2;
+extern const bf_builtin bf_builtin_ggx_2;
+/* kernel_ward.c */
+extern const bf_builtin bf_builtin_ward;
+extern const bf_builtin bf_builtin_ward_duer;
+/* kernel_lafortune.c */
+extern const bf_builtin bf_builtin_lafortune;
+
+#endif /* BRDFFIT_MODELS_KERNEL_H */
