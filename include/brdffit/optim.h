@@ -10,15 +10,30 @@
  * never has to be stored.
  *
  * Each step solves (J^T J + lambda D) delta = -J^T r with D = diag(J^T J)
- * (Marquardt scaling, default; entries floored) or the identity
- * (Levenberg), by Cholesky; when the damped matrix is not positive definite
- * or is badly conditioned, by a symmetric eigen-decomposition
+ * (Marquardt scaling, default; entries floored) or a multiple of the
+ * identity (Levenberg), by Cholesky; when the damped matrix is not positive
+ * definite or is badly conditioned, by a symmetric eigen-decomposition
  * (pseudo-inverse), and the run records that it fell back.
+ *
+ * Trial points are evaluated for the cost alone (jac, jtj and jtr NULL);
+ * the derivatives are evaluated once per accepted step, at the new point.
+ * A trial point the problem cannot evaluate (a failing callback, NaN or
+ * Inf anywhere) is a rejected step, never a result.
+ *
+ * Box bounds are handled by an active-set projected step: a parameter on a
+ * bound whose gradient points out of the box is held for that step, the
+ * step of the others is solved for, the trial point is projected onto the
+ * box, and the gain ratio uses the reduction the model predicts for the
+ * projected step. The problem is never evaluated outside the box.
+ * docs/optimizer.md describes the algorithm in full.
  *
  * An optimizer handle is not thread-safe: use one per thread. The only
  * exception is brdffit_optimizer_cancel(), which any thread may call while
  * another runs the optimizer. Two optimizers in two threads do not share
- * any state.
+ * any state. Functions that change the optimizer fail with
+ * ::BRDFFIT_E_INVALID_ARGUMENT when called from its own callbacks during a
+ * run; functions given a destroyed handle return ::BRDFFIT_E_BAD_HANDLE
+ * where that is detectable. The library never prints.
  */
 #ifndef BRDFFIT_OPTIM_H
 #define BRDFFIT_OPTIM_H
@@ -52,12 +67,15 @@ typedef brdffit_status (*brdffit_residual_fn)(const double *x, double *r, double
 /**
  * @brief Normal-equation form of a problem.
  * @param x        The p parameters.
- * @param[out] cost sum of squared residuals at x.
+ * @param[out] cost sum of squared residuals at x (set to 0 before the call).
  * @param[out] jtj NULL when only the cost is wanted; otherwise J^T J, p x p,
- *                 row-major (both triangles).
- * @param[out] jtr NULL when only the cost is wanted; otherwise J^T r, p values.
+ *                 row-major (both triangles; the optimizer averages the
+ *                 two), set to 0 before the call so the callback may
+ *                 accumulate into it.
+ * @param[out] jtr NULL when only the cost is wanted; otherwise J^T r, p
+ *                 values, set to 0 before the call.
  * @param user     The user pointer given with the callback.
- * @return As ::brdffit_residual_fn.
+ * @return As ::brdffit_residual_fn. A negative cost counts as a failure.
  */
 typedef brdffit_status (*brdffit_normal_fn)(const double *x, double *cost, double *jtj,
                                             double *jtr, void *user);
@@ -72,8 +90,14 @@ typedef brdffit_status (*brdffit_normal_fn)(const double *x, double *cost, doubl
  * start lambda; @c accept receives the gain ratio rho (actual over
  * predicted cost reduction, > 0) and updates lambda; @c reject updates
  * lambda after a step that did not lower the cost (rho <= 0, or a trial
- * point the problem could not evaluate, then rho is NaN). lambda must stay
- * finite and > 0; the optimizer clamps it to [1e-300, 1e300].
+ * point the problem could not evaluate, then rho is NaN; or a projected step
+ * the linear model predicts no decrease for, which is not evaluated, then
+ * rho is 0). lambda must stay finite and > 0; the optimizer clamps it to
+ * [1e-300, 1e300] and keeps the previous value when a callback leaves NaN.
+ * lambda is relative to the scaling D, so the same policy suits both
+ * scalings. When @c reject does not raise lambda (a policy at its cap),
+ * the optimizer halves the next step itself, so every iteration tries a
+ * new point and the run ends.
  */
 typedef struct brdffit_damping {
     size_t struct_size; /**< sizeof(brdffit_damping). */
@@ -90,13 +114,13 @@ typedef struct brdffit_damping {
 
 /** @brief Numeric settings for brdffit_optimizer_set(). Values are fixed forever. */
 typedef enum brdffit_optim_setting {
-    BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| * max(|x_j|, 1) <= gtol * max(cost, tiny); default 1e-10. */
-    BRDFFIT_OPT_XTOL = 2,           /**< Stop when ||delta|| <= xtol * (||x|| + xtol); default 1e-10. */
-    BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by less than ftol * cost; default 1e-12. */
-    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 200. */
-    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations; default 1000. */
-    BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt diag(J^T J) (default), 0 = Levenberg identity. */
-    BRDFFIT_OPT_DIAG_FLOOR = 7      /**< Floor of diagonal scaling entries, relative to the largest; default 1e-12. */
+    BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| * max(|x_j|, 1) <= gtol * max(cost, DBL_MIN), g = J^T r, over the parameters that may move (not fixed, not pushing out of a bound); default 1e-10. */
+    BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has ||step|| <= xtol * (||x|| + xtol), before it is evaluated; default 1e-10. */
+    BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by at most ftol * cost and the model predicted no more; default 1e-12. */
+    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 200; at most 2^53. */
+    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 1000; at most 2^53. */
+    BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt, D = diag(J^T J) (default); 0 = Levenberg, D = d0 I with d0 the largest diagonal entry of J^T J at the start point. */
+    BRDFFIT_OPT_DIAG_FLOOR = 7      /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-12. */
 } brdffit_optim_setting;
 
 /** @brief Why a run ended. Values are fixed forever. */
@@ -109,7 +133,7 @@ typedef enum brdffit_stop_reason {
     BRDFFIT_STOP_MAX_EVALUATIONS = 5,/**< Evaluation limit reached. */
     BRDFFIT_STOP_CANCELLED = 6,     /**< brdffit_optimizer_cancel() was called. */
     BRDFFIT_STOP_CALLBACK = 7,      /**< The iteration callback asked to stop. */
-    BRDFFIT_STOP_ZERO_COST = 8      /**< The cost reached zero. */
+    BRDFFIT_STOP_ZERO_COST = 8      /**< The cost reached zero (below DBL_MIN). */
 } brdffit_stop_reason;
 
 /**
@@ -172,10 +196,14 @@ BRDFFIT_API const char *brdffit_optimizer_message(const brdffit_optimizer *opt);
 
 /**
  * @brief Give the problem in residual form (replaces any earlier problem).
+ * @param opt    The optimizer.
  * @param n_rows Number of residuals, >= 1.
  * @param fn     The callback.
  * @param user   Passed to @p fn; borrowed.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT; ::BRDFFIT_E_OUT_OF_MEMORY.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY (the optimizer keeps room for n_rows
+ *         residuals and the n_rows x p Jacobian; on failure the earlier
+ *         problem stays).
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_set_residuals(brdffit_optimizer *opt,
                                                            size_t n_rows,
@@ -184,6 +212,7 @@ BRDFFIT_API brdffit_status brdffit_optimizer_set_residuals(brdffit_optimizer *op
 /**
  * @brief Give the problem in normal-equation form (replaces any earlier
  *        problem).
+ * @param opt    The optimizer.
  * @param n_rows Number of residual rows the sums run over (used for the
  *               residual variance in the covariance), >= 1.
  * @param fn     The callback.
@@ -195,8 +224,13 @@ BRDFFIT_API brdffit_status brdffit_optimizer_set_normal(brdffit_optimizer *opt, 
 
 /**
  * @brief Set the damping policy (copied; its @c user is borrowed).
- *        NULL restores the default, brdffit_damping_nielsen().
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an incomplete policy.
+ *        NULL restores the default, brdffit_damping_nielsen(). The
+ *        policy's state (@c state_size bytes) is allocated here and zeroed
+ *        at the start of every run.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an incomplete policy
+ *         (@c struct_size too small, or @c init, @c accept or @c reject
+ *         NULL); ::BRDFFIT_E_OUT_OF_MEMORY when the state cannot be
+ *         allocated (the earlier policy stays).
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt,
                                                          const brdffit_damping *policy);
@@ -217,9 +251,11 @@ BRDFFIT_API brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt,
 
 /**
  * @brief Set box bounds (copied). Either pointer may be NULL for no bound on
- *        that side; entries may be -HUGE_VAL / HUGE_VAL.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT when lower > upper or
- *         an entry is NaN.
+ *        that side; entries may be -HUGE_VAL / HUGE_VAL. lower == upper
+ *        pins a parameter.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT when lower > upper,
+ *         an entry is NaN, a lower bound is +HUGE_VAL or an upper bound
+ *         -HUGE_VAL (nothing changes then).
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_set_bounds(brdffit_optimizer *opt,
                                                         const double *lower,
@@ -227,7 +263,8 @@ BRDFFIT_API brdffit_status brdffit_optimizer_set_bounds(brdffit_optimizer *opt,
 
 /**
  * @brief Hold parameters fixed (copied): non-zero entries of @p mask keep
- *        that parameter at its start value. NULL frees all.
+ *        that parameter at its start value (moved onto the box first, if
+ *        outside). NULL frees all.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_set_fixed(brdffit_optimizer *opt,
@@ -251,16 +288,24 @@ BRDFFIT_API void brdffit_optimizer_cancel(brdffit_optimizer *opt);
 /**
  * @brief Run the optimizer.
  *
+ * @param opt The optimizer.
  * @param[in,out] x The p start values in; the best point found out (also
  *                  when a limit, a cancel or the callback ended the run).
  *                  Start values outside the bounds are moved onto them.
  * @return ::BRDFFIT_OK when the run ended for one of the reasons of
  *         ::brdffit_stop_reason (read it with brdffit_optimizer_stop_reason());
  *         ::BRDFFIT_E_NOT_READY when no problem was set;
- *         ::BRDFFIT_E_NONFINITE when the start point gives NaN or Inf;
+ *         ::BRDFFIT_E_NONFINITE when a start value is NaN (or infinite
+ *         after projection onto the box), or the start point gives NaN or
+ *         Inf, the message naming the quantity and index;
  *         ::BRDFFIT_E_CALLBACK_FAILED when the problem fails at the start
- *         point; ::BRDFFIT_E_INVALID_ARGUMENT; ::BRDFFIT_E_OUT_OF_MEMORY.
+ *         point (the message names the callback's status) or returns a
+ *         negative cost; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY when the iteration history cannot be
+ *         allocated (it starts with room for min(max iterations + 1, 1024)
+ *         entries, kept between runs, and doubles when needed).
  *         On error @p x is unchanged and brdffit_optimizer_message() says why.
+ *         Any pending cancel request is consumed when the run ends.
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double *x);
 
@@ -302,8 +347,10 @@ BRDFFIT_API size_t brdffit_optimizer_history(const brdffit_optimizer *opt, doubl
 
 /**
  * @brief Estimate of the 2-norm condition number of J^T J at the returned
- *        point, over the free parameters; HUGE_VAL when singular, NaN
- *        before a run.
+ *        point, over the parameters neither fixed nor on a bound: the ratio
+ *        of its extreme eigenvalues (Jacobi, computed on demand, O(p^3));
+ *        HUGE_VAL when singular, 1 when no parameter is free, NaN before a
+ *        run or after a failed one.
  */
 BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
 
@@ -311,7 +358,15 @@ BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
  * @brief Covariance of the parameters at the returned point:
  *        s^2 (J^T J)^+ with s^2 = cost / (n_rows - n_free), over the free
  *        parameters; rows and columns of fixed parameters, and of
- *        parameters at an active bound, are 0.
+ *        parameters on a bound, are 0.
+ *
+ * The pseudo-inverse is taken after scaling J^T J to unit diagonal
+ * (it equals the inverse when J^T J is nonsingular) and drops eigenvalues
+ * below 1e-14 of the largest. When n_rows <= n_free there are no degrees
+ * of freedom to estimate the residual variance from, and s^2 = 1 (the
+ * residuals are taken as already divided by their standard deviations).
+ * Computed on demand, O(p^3).
+ * @param opt The optimizer.
  * @param[out] cov p x p values, row-major.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
  *         ::BRDFFIT_E_INVALID_ARGUMENT.
@@ -321,6 +376,7 @@ BRDFFIT_API brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer 
 
 /**
  * @brief Standard errors: the square roots of the covariance diagonal.
+ * @param opt The optimizer.
  * @param[out] se p values.
  * @return As brdffit_optimizer_covariance().
  */

@@ -1,0 +1,46 @@
+/* Dense symmetric linear algebra for the optimizer and the fit code:
+ * Cholesky with a conditioning check, a cyclic Jacobi eigen-solver, and
+ * pseudo-inverses built from the eigen-decomposition. All matrices are
+ * n x n, row-major, contiguous (row stride n). Nothing here allocates. */
+#ifndef BRDFFIT_OPTIM_LINALG_H
+#define BRDFFIT_OPTIM_LINALG_H
+
+#include <stddef.h>
+
+/* Relative threshold shared by the Cholesky conditioning check (smallest
+ * squared pivot over the largest) and the pseudo-inverse (eigenvalues at
+ * or below this fraction of the largest count as zero). */
+#define BF_LINALG_RTOL 1e-14
+
+/* Factor the symmetric matrix a = L L^T in place: the lower triangle of a
+ * receives L, the strict upper triangle is not touched. Returns 1 on
+ * success; 0 when a pivot is not positive and finite, or when the smallest
+ * squared pivot is below rtol times the largest (too badly conditioned to
+ * trust). a is garbage after a 0 return. */
+int bf_cholesky(double *a, size_t n, double rtol);
+
+/* Solve L L^T x = b in place (b becomes x), L from bf_cholesky(). */
+void bf_cholesky_solve(const double *l, size_t n, double *b);
+
+/* Eigen-decomposition a = V diag(w) V^T of the symmetric matrix a by cyclic
+ * Jacobi rotations. a is destroyed (its diagonal ends up holding w). w
+ * receives the n eigenvalues, unsorted. v, when not NULL, receives the
+ * eigenvectors as columns: v[i * n + k] is component i of vector k.
+ * Returns 1 when the off-diagonal part vanished, 0 when the sweep limit
+ * was hit first (the result is then still a close approximation). */
+int bf_sym_eigen(double *a, size_t n, double *w, double *v);
+
+/* x = A^+ b from w and v of bf_sym_eigen(); eigenvalues at or below
+ * rtol times the largest one count as zero. tmp holds n values. x and b
+ * may be the same array. */
+void bf_eigen_pinv_solve(const double *w, const double *v, size_t n, double rtol, const double *b,
+                         double *x, double *tmp);
+
+/* out = A^+ (n x n) from w and v of bf_sym_eigen(), same rule as above. */
+void bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, double *out);
+
+/* Ratio of the largest to the smallest eigenvalue: HUGE_VAL when the
+ * smallest is not positive, 1 when n is 0. */
+double bf_eigen_condition(const double *w, size_t n);
+
+#endif /* BRDFFIT_OPTIM_LINALG_H */

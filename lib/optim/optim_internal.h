@@ -1,0 +1,139 @@
+/* The optimizer handle and the internal interface between its files:
+ * optimizer.c (public API, settings, results), lm.c (the run loop),
+ * eval.c (problem evaluation), step.c (the damped, bounded step) and
+ * analysis.c (condition and covariance at the end of a run). */
+#ifndef BRDFFIT_OPTIM_INTERNAL_H
+#define BRDFFIT_OPTIM_INTERNAL_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "brdffit/optim.h"
+
+#define BF_OPTIM_MAX_PARAMS 4096
+/* Damping is clamped to this range after every policy call. */
+#define BF_LAMBDA_MIN 1e-300
+#define BF_LAMBDA_MAX 1e300
+/* Absolute floor of the diagonal scaling entries. */
+#define BF_SCALE_ABS_FLOOR 1e-300
+
+typedef enum bf_form { BF_FORM_NONE = 0, BF_FORM_RESIDUALS = 1, BF_FORM_NORMAL = 2 } bf_form;
+
+typedef struct bf_optim_settings {
+    double gtol, xtol, ftol, diag_floor;
+    size_t max_iterations, max_evaluations;
+    int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
+} bf_optim_settings;
+
+typedef struct bf_optim_result {
+    int valid; /* the last run ended with BRDFFIT_OK */
+    brdffit_stop_reason stop;
+    double initial_cost, final_cost;
+    size_t iterations, evaluations, last_improvement, history_len;
+    size_t n_rows; /* of the problem the run solved */
+    int used_fallback;
+} bf_optim_result;
+
+/* Workspace sized by n_params, carved from one block made at create.
+ * After a run, jtj (J^T J at the returned point) and analysed stay valid
+ * until the next run; the scratch arrays (trial, step, delta, scale, w,
+ * tmp, jtj_new, m, v, free_idx, held) may then be overwritten by the
+ * result accessors, even through a const handle. */
+typedef struct bf_optim_work {
+    /* p values each */
+    double *x;     /* current (best) point */
+    double *trial; /* trial point */
+    double *g;     /* J^T r at x */
+    double *g_new; /* J^T r at an accepted trial point, before the swap */
+    double *step;  /* step actually taken, trial - x */
+    double *delta; /* solution of the reduced damped system */
+    double *d;     /* diagonal scaling D */
+    double *scale; /* equilibration 1 / sqrt(diag) of the reduced system */
+    double *w;     /* eigenvalues */
+    double *tmp;   /* scratch */
+    double *lower, *upper;
+    /* p x p values each */
+    double *jtj;     /* J^T J at x */
+    double *jtj_new; /* J^T J at an accepted trial point */
+    double *m;       /* reduced damped matrix and its factor */
+    double *v;       /* eigenvectors */
+    size_t *free_idx;
+    unsigned char *fixed, *held;
+    unsigned char *analysed; /* after a run: neither fixed nor on a bound */
+} bf_optim_work;
+
+struct brdffit_optimizer {
+    uint32_t magic;
+    brdffit_allocator alloc;
+    size_t n_params;
+
+    bf_form form;
+    size_t n_rows;
+    brdffit_residual_fn residual_fn;
+    brdffit_normal_fn normal_fn;
+    void *user;
+    double *r, *jac; /* residual form: n_rows, and n_rows x p values */
+
+    brdffit_damping policy;
+    void *policy_state; /* policy.state_size bytes, zeroed at every run */
+
+    bf_optim_settings settings;
+    brdffit_iteration_fn callback;
+    void *callback_user;
+
+    atomic_int cancel; /* set by brdffit_optimizer_cancel(), any thread */
+    int running;       /* a run is in progress (calls from callbacks) */
+
+    void *block; /* the workspace block */
+    bf_optim_work w;
+    double *history; /* cost[history_cap] then lambda[history_cap] */
+    size_t history_cap;
+
+    bf_optim_result res;
+    brdffit_error err; /* message of the last failed call; "" after success */
+};
+
+/* optimizer.c: record a failure on the handle and return status. */
+brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* lm.c: the run behind brdffit_optimizer_run() (arguments checked). */
+brdffit_status bf_lm_run(brdffit_optimizer *opt, double *x);
+
+/* eval.c: evaluate the problem at x. Always the cost; with derivs also
+ * J^T J (jtj, both triangles, symmetric) and J^T r (g). Returns BRDFFIT_OK;
+ * BRDFFIT_E_CALLBACK_FAILED when the callback failed or broke its contract
+ * (a negative cost); BRDFFIT_E_NONFINITE for NaN or Inf. When what is not
+ * NULL a failure is described there (which quantity, which index). */
+brdffit_status bf_optim_eval(brdffit_optimizer *opt, const double *x, int derivs, double *cost,
+                             double *jtj, double *g, char *what, size_t what_size);
+
+/* step.c: the diagonal scaling D for the current J^T J (Marquardt) or the
+ * constant d0 (Levenberg, set_d0 at the start of a run). */
+void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
+
+/* step.c: the step for damping lambda, shortened by factor t, with
+ * parameters at a bound held where they would leave the box. Fills
+ * w.trial (inside the box) and w.step = trial - x, and returns the
+ * reduction of the cost the linear model predicts for that step. Sets
+ * *fallback when the eigen-decomposition replaced Cholesky. */
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallback);
+
+/* step.c: whether parameter j sits on its lower or upper bound. */
+int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
+
+/* analysis.c: at the end of a run, mark the parameters the condition
+ * number and the covariance are taken over. */
+void bf_optim_mark_analysed(brdffit_optimizer *opt);
+
+/* analysis.c: condition number of J^T J at the returned point. */
+double bf_optim_condition(const brdffit_optimizer *opt);
+
+/* analysis.c: covariance (p x p) at the returned point into cov. */
+void bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
+
+#endif /* BRDFFIT_OPTIM_INTERNAL_H */

@@ -1,0 +1,171 @@
+/* The damped step with bounds and fixed parameters (an active-set,
+ * projected Levenberg-Marquardt step):
+ *
+ * 1. Held: fixed parameters, and parameters on a bound whose gradient
+ *    points out of the box.
+ * 2. Solve (A + lambda D) delta = -g over the others (A = J^T J,
+ *    g = J^T r), equilibrated to unit diagonal, by Cholesky, or by the
+ *    eigen-decomposition pseudo-inverse when Cholesky fails or its pivots
+ *    show bad conditioning.
+ * 3. A parameter on a bound whose delta still points out of the box is
+ *    held too, and step 2 is repeated (at most once per parameter).
+ * 4. trial = projection of x + t delta onto the box; the predicted
+ *    reduction is that of the model for the step actually taken. */
+#include <math.h>
+#include <string.h>
+
+#include "optim/linalg.h"
+#include "optim/optim_internal.h"
+
+int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x)
+{
+    return x[j] <= opt->w.lower[j] || x[j] >= opt->w.upper[j];
+}
+
+void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t j, p = opt->n_params;
+    double dmax = 0.0, floor_value;
+    for (j = 0; j < p; j++)
+        if (!w->fixed[j] && w->jtj[j * p + j] > dmax) dmax = w->jtj[j * p + j];
+    if (!opt->settings.marquardt) {
+        if (!set_d0) return;
+        dmax = fmax(dmax, BF_SCALE_ABS_FLOOR);
+        for (j = 0; j < p; j++) w->d[j] = dmax;
+        return;
+    }
+    floor_value = fmax(opt->settings.diag_floor * dmax, BF_SCALE_ABS_FLOOR);
+    for (j = 0; j < p; j++) w->d[j] = fmax(w->jtj[j * p + j], floor_value);
+}
+
+/* Held at the start of a step: fixed, or on a bound with the descent
+ * direction -g pointing out of the box. */
+static void init_held(brdffit_optimizer *opt)
+{
+    bf_optim_work *w = &opt->w;
+    size_t j;
+    for (j = 0; j < opt->n_params; j++) {
+        double x = w->x[j], g = w->g[j];
+        w->held[j] = w->fixed[j] || (x <= w->lower[j] && g > 0.0) || (x >= w->upper[j] && g < 0.0);
+    }
+}
+
+static size_t gather_free(bf_optim_work *w, size_t p)
+{
+    size_t j, nf = 0;
+    for (j = 0; j < p; j++)
+        if (!w->held[j]) w->free_idx[nf++] = j;
+    return nf;
+}
+
+/* Equilibration factors of A + lambda D over the free set. A parameter
+ * whose damped diagonal is zero or overflows gets factor 0: no step. */
+static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
+{
+    bf_optim_work *w = &opt->w;
+    size_t a, p = opt->n_params;
+    for (a = 0; a < nf; a++) {
+        size_t j = w->free_idx[a];
+        double mjj = w->jtj[j * p + j] + lambda * w->d[j];
+        w->scale[a] = mjj > 0.0 && isfinite(mjj) ? 1.0 / sqrt(mjj) : 0.0;
+    }
+}
+
+/* m = S (A + lambda D) S over the free set; unit diagonal by construction. */
+static void build_scaled(brdffit_optimizer *opt, size_t nf)
+{
+    bf_optim_work *w = &opt->w;
+    size_t a, b, p = opt->n_params;
+    for (a = 0; a < nf; a++) {
+        const double *arow = w->jtj + w->free_idx[a] * p;
+        double *mrow = w->m + a * nf;
+        for (b = 0; b < nf; b++)
+            mrow[b] = a == b ? 1.0 : arow[w->free_idx[b]] * w->scale[a] * w->scale[b];
+    }
+}
+
+/* delta (nf values) = -(A + lambda D)^-1 g over the free set. */
+static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback)
+{
+    bf_optim_work *w = &opt->w;
+    size_t a;
+    equilibrate(opt, nf, lambda);
+    build_scaled(opt, nf);
+    for (a = 0; a < nf; a++) w->delta[a] = -w->g[w->free_idx[a]] * w->scale[a];
+    if (bf_cholesky(w->m, nf, BF_LINALG_RTOL)) {
+        bf_cholesky_solve(w->m, nf, w->delta);
+    } else {
+        *fallback = 1;
+        build_scaled(opt, nf);
+        bf_sym_eigen(w->m, nf, w->w, w->v);
+        bf_eigen_pinv_solve(w->w, w->v, nf, BF_LINALG_RTOL, w->delta, w->delta, w->tmp);
+    }
+    for (a = 0; a < nf; a++) w->delta[a] *= w->scale[a];
+}
+
+/* Hold free parameters on a bound whose delta points out of the box.
+ * Returns whether any was added. */
+static int hold_outward(bf_optim_work *w, size_t nf)
+{
+    size_t a;
+    int changed = 0;
+    for (a = 0; a < nf; a++) {
+        size_t j = w->free_idx[a];
+        double x = w->x[j], dj = w->delta[a];
+        if ((x <= w->lower[j] && dj < 0.0) || (x >= w->upper[j] && dj > 0.0)) {
+            w->held[j] = 1;
+            changed = 1;
+        }
+    }
+    return changed;
+}
+
+/* trial = P(x + t delta), step = trial - x. */
+static void project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
+{
+    size_t a, j;
+    memcpy(w->trial, w->x, p * sizeof *w->trial);
+    for (a = 0; a < nf; a++) {
+        double v;
+        j = w->free_idx[a];
+        v = w->x[j] + t * w->delta[a];
+        if (v < w->lower[j]) v = w->lower[j];
+        if (v > w->upper[j]) v = w->upper[j];
+        w->trial[j] = v;
+    }
+    for (j = 0; j < p; j++) w->step[j] = w->trial[j] - w->x[j];
+}
+
+/* Predicted reduction of the linear model for step s:
+ * cost - |r + J s|^2 = -(2 g.s + s.A s). */
+static double predicted_reduction(const bf_optim_work *w, size_t p)
+{
+    double gs = 0.0, sas = 0.0;
+    size_t j, k;
+    for (j = 0; j < p; j++) {
+        const double *row = w->jtj + j * p;
+        double sj = w->step[j], as = 0.0;
+        if (sj == 0.0) continue;
+        gs += w->g[j] * sj;
+        for (k = 0; k < p; k++)
+            if (w->step[k] != 0.0) as += row[k] * w->step[k];
+        sas += sj * as;
+    }
+    return -(2.0 * gs + sas);
+}
+
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallback)
+{
+    bf_optim_work *w = &opt->w;
+    size_t p = opt->n_params, nf;
+    init_held(opt);
+    for (;;) {
+        nf = gather_free(w, p);
+        if (nf == 0) break;
+        solve_reduced(opt, nf, lambda, fallback);
+        if (!hold_outward(w, nf)) break;
+    }
+    project_trial(w, p, nf, t);
+    return predicted_reduction(w, p);
+}

@@ -1,0 +1,372 @@
+/* The optimizer on classic hard problems with known minima (Moré, Garbow,
+ * Hillstrom, ACM TOMS 7, 1981) and on two curve fits with data made from
+ * known parameters: every built-in damping policy, the residual and the
+ * normal-equation form, Marquardt and Levenberg scaling. */
+#include <math.h>
+#include <string.h>
+
+#include "optim_problems.h"
+#include "test_support.h"
+
+enum { N_POLICIES = 3 };
+
+static const brdffit_damping *policy(int k)
+{
+    if (k == 0) return brdffit_damping_thesis();
+    if (k == 1) return brdffit_damping_marquardt();
+    return brdffit_damping_nielsen();
+}
+
+typedef struct run_out {
+    brdffit_status status;
+    brdffit_stop_reason stop;
+    double x[OPTIM_MAX_PARAMS];
+    double cost, initial_cost;
+    size_t iterations, evaluations, accepted, callback_calls;
+    size_t calls, derivative_calls; /* normal form only */
+    double se[OPTIM_MAX_PARAMS];
+} run_out;
+
+typedef struct run_cfg {
+    int policy, normal, marquardt;
+    size_t max_iterations; /* 0: default */
+} run_cfg;
+
+static int count_accepted(const brdffit_iteration *info, void *user)
+{
+    run_out *out = user;
+    out->callback_calls++;
+    if (info->accepted) out->accepted++;
+    return 0;
+}
+
+static int is_convergence(brdffit_stop_reason s)
+{
+    return s == BRDFFIT_STOP_GRADIENT || s == BRDFFIT_STOP_STEP || s == BRDFFIT_STOP_COST ||
+           s == BRDFFIT_STOP_ZERO_COST;
+}
+
+/* Checks that hold for every run: history consistent with the results,
+ * cost never rising, the returned x giving the reported cost. */
+static void check_run_invariants(brdffit_optimizer *opt, const optim_problem *pb, void *user,
+                                 const run_out *out)
+{
+    double hist_cost[8192], hist_lambda[8192], r[OPTIM_MAX_ROWS], cost = 0.0;
+    size_t n = brdffit_optimizer_history(opt, NULL, NULL), i;
+    assert_int_equal(n, out->iterations + 1);
+    assert_true(n <= 8192);
+    assert_int_equal(brdffit_optimizer_history(opt, hist_cost, hist_lambda), n);
+    assert_true(hist_cost[0] == out->initial_cost);
+    assert_true(hist_cost[n - 1] == out->cost);
+    for (i = 1; i < n; i++) {
+        assert_true(hist_cost[i] <= hist_cost[i - 1]);
+        assert_true(hist_lambda[i] > 0.0 && isfinite(hist_lambda[i]));
+    }
+    assert_int_equal(out->callback_calls, out->iterations);
+    assert_int_equal(pb->fn(out->x, r, NULL, user), BRDFFIT_OK);
+    for (i = 0; i < pb->n_rows; i++) cost += r[i] * r[i];
+    assert_close(cost, out->cost, 1e-12);
+    if (out->derivative_calls > 0) { /* one derivative evaluation per accepted step */
+        assert_int_equal(out->derivative_calls, out->accepted + 1);
+        assert_int_equal(out->calls, out->evaluations);
+    }
+}
+
+static void run_problem(const optim_problem *pb, void *user, const run_cfg *cfg, run_out *out)
+{
+    brdffit_optimizer *opt = NULL;
+    optim_normal_adapter ad;
+    size_t max_it = cfg->max_iterations ? cfg->max_iterations : 200;
+    memset(out, 0, sizeof *out);
+    assert_int_equal(brdffit_optimizer_create(&opt, pb->n_params, NULL, NULL), BRDFFIT_OK);
+    if (cfg->normal) {
+        optim_normal_adapter_init(&ad, pb->fn, user, pb->n_rows, pb->n_params);
+        assert_int_equal(
+            brdffit_optimizer_set_normal(opt, pb->n_rows, optim_normal_adapter_fn, &ad),
+            BRDFFIT_OK);
+    } else {
+        assert_int_equal(brdffit_optimizer_set_residuals(opt, pb->n_rows, pb->fn, user),
+                         BRDFFIT_OK);
+    }
+    assert_int_equal(brdffit_optimizer_set_damping(opt, policy(cfg->policy)), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALING, cfg->marquardt), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, (double)max_it),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_EVALUATIONS, 2.0 * max_it + 1),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set_callback(opt, count_accepted, out), BRDFFIT_OK);
+    memcpy(out->x, pb->x0, pb->n_params * sizeof(double));
+    out->status = brdffit_optimizer_run(opt, out->x);
+    assert_int_equal(out->status, BRDFFIT_OK);
+    assert_string_equal(brdffit_optimizer_message(opt), "");
+    out->stop = brdffit_optimizer_stop_reason(opt);
+    out->cost = brdffit_optimizer_final_cost(opt);
+    out->initial_cost = brdffit_optimizer_initial_cost(opt);
+    out->iterations = brdffit_optimizer_iterations(opt);
+    out->evaluations = brdffit_optimizer_evaluations(opt);
+    assert_int_equal(brdffit_optimizer_std_errors(opt, out->se), BRDFFIT_OK);
+    if (cfg->normal) {
+        out->calls = ad.calls;
+        out->derivative_calls = ad.derivative_calls;
+    }
+    check_run_invariants(opt, pb, user, out);
+    brdffit_optimizer_destroy(opt);
+}
+
+/* Visit every policy x form x scaling combination. */
+typedef void (*combo_fn)(const optim_problem *pb, void *user, const run_cfg *cfg);
+
+static void for_each_combo(const optim_problem *pb, void *user, size_t max_it, combo_fn fn)
+{
+    run_cfg cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.max_iterations = max_it;
+    for (cfg.policy = 0; cfg.policy < N_POLICIES; cfg.policy++)
+        for (cfg.normal = 0; cfg.normal < 2; cfg.normal++)
+            for (cfg.marquardt = 0; cfg.marquardt < 2; cfg.marquardt++) fn(pb, user, &cfg);
+}
+
+static const optim_problem *mgh(const char *name)
+{
+    size_t n, i;
+    const optim_problem *pb = optim_mgh_problems(&n);
+    for (i = 0; i < n; i++)
+        if (strcmp(pb[i].name, name) == 0) return &pb[i];
+    fail_msg("no problem %s", name);
+    return NULL;
+}
+
+/* --- Rosenbrock: minimum 0 at (1, 1) ---------------------------------------------- */
+
+static void rosenbrock_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    assert_true(is_convergence(out.stop));
+    assert_true(out.cost < 1e-18);
+    assert_close(out.x[0], 1.0, 1e-8);
+    assert_close(out.x[1], 1.0, 1e-8);
+}
+
+static void test_rosenbrock(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("rosenbrock"), NULL, 0, rosenbrock_combo);
+}
+
+/* --- Powell singular: minimum 0 at the origin, J singular there ---------------------- */
+
+static void powell_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    size_t j;
+    run_problem(pb, user, cfg, &out);
+    if (cfg->policy == 0) {
+        /* The thesis's policy never lets lambda fall below 1e-4: in the
+         * directions where J^T J vanishes at the solution the step is
+         * then a damped gradient step and convergence is sublinear
+         * (|x| ~ k^-1/2). It only gets close within the limit. */
+        assert_int_equal(out.stop, BRDFFIT_STOP_MAX_ITERATIONS);
+        assert_true(out.cost < 1e-9);
+        for (j = 0; j < 4; j++) assert_true(fabs(out.x[j]) < 1e-2);
+        return;
+    }
+    assert_true(is_convergence(out.stop));
+    assert_true(out.cost < 1e-24);
+    for (j = 0; j < 4; j++) assert_true(fabs(out.x[j]) < 1e-5);
+}
+
+static void test_powell_singular(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("powell_singular"), NULL, 0, powell_combo);
+}
+
+/* --- Freudenstein-Roth: global 0 at (5, 4), local 48.98425367924 at
+ * (11.41277898690, -0.8968052532745) -------------------------------------------------- */
+
+static void freudenstein_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    assert_true(is_convergence(out.stop));
+    if (out.cost < 1e-10) {
+        assert_close(out.x[0], 5.0, 1e-6);
+        assert_close(out.x[1], 4.0, 1e-6);
+    } else {
+        assert_close(out.cost, 48.98425367924, 1e-10);
+        assert_close(out.x[0], 11.41277898690, 1e-5);
+        assert_close(out.x[1], -0.8968052532745, 1e-5);
+    }
+    /* From (0.5, -2) the damped Gauss-Newton path stays on the x2 < 0
+     * side of the ridge around x2 = 0.7: every policy ends in the local
+     * minimum, as MINPACK's lmder does from this start. */
+    assert_true(out.x[1] < 0.0);
+}
+
+static void test_freudenstein_roth(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("freudenstein_roth"), NULL, 0, freudenstein_combo);
+}
+
+/* --- Meyer: 87.9458551708511 at (0.005609636471, 6181.346346, 345.2236346) ------------ */
+
+static void meyer_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    /* Levenberg scaling with the thesis's lambda in [1e-4, 1] (relative to
+     * the largest diagonal entry of J^T J, ~1e13 times the smallest) damps
+     * x2 and x3 so much that they hardly move: not a sensible pairing. */
+    if (cfg->policy == 0 && !cfg->marquardt) return;
+    run_problem(pb, user, cfg, &out);
+    assert_true(is_convergence(out.stop));
+    assert_close(out.cost, 87.9458551708511, 1e-9);
+    assert_close(out.x[0], 0.005609636471028, 1e-5);
+    assert_close(out.x[1], 6181.346346286, 1e-5);
+    assert_close(out.x[2], 345.2236346241, 1e-5);
+}
+
+static void test_meyer(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("meyer"), NULL, 5000, meyer_combo);
+}
+
+/* --- Box 3-D: minimum 0 at (1, 10, 1), (10, 1, -1) and on x1 = x2, x3 = 0 ------------- */
+
+static void box3d_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    assert_true(is_convergence(out.stop));
+    assert_true(out.cost < 1e-18);
+    if (fabs(out.x[0] - 1.0) < 1e-6) {
+        assert_close(out.x[1], 10.0, 1e-6);
+        assert_close(out.x[2], 1.0, 1e-6);
+    } else if (fabs(out.x[0] - 10.0) < 1e-6) {
+        assert_close(out.x[1], 1.0, 1e-6);
+        assert_close(out.x[2], -1.0, 1e-6);
+    } else {
+        assert_close(out.x[0], out.x[1], 1e-6);
+        assert_true(fabs(out.x[2]) < 1e-6);
+    }
+}
+
+static void test_box3d(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("box3d"), NULL, 0, box3d_combo);
+}
+
+/* --- Jennrich-Sampson: 124.362182355615 at x1 = x2 = 0.2578252136704 ------------------- */
+
+static void jennrich_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    assert_true(is_convergence(out.stop));
+    assert_close(out.cost, 124.362182355615, 1e-10);
+    assert_close(out.x[0], 0.2578252136704, 1e-6);
+    assert_close(out.x[1], 0.2578252136704, 1e-6);
+}
+
+static void test_jennrich_sampson(void **state)
+{
+    (void)state;
+    for_each_combo(mgh("jennrich_sampson"), NULL, 0, jennrich_combo);
+}
+
+/* --- curve fits: recover the parameters the data were made from --------------------- */
+
+static void check_recovery(const run_out *out, const optim_fit_data *d, size_t p, double rel)
+{
+    size_t j;
+    assert_true(is_convergence(out->stop));
+    for (j = 0; j < p; j++) {
+        double err = fabs(out->x[j] - d->truth[j]);
+        assert_true(out->se[j] > 0.0);
+        if (!(err <= 4.0 * out->se[j]) || !(err <= rel * fabs(d->truth[j])))
+            fail_msg("parameter %zu = %.9g, truth %.9g, standard error %.3g", j, out->x[j],
+                     d->truth[j], out->se[j]);
+    }
+    /* the residual standard deviation estimates the noise */
+    assert_close(sqrt(out->cost / (double)(d->n - p)), d->noise, 0.3);
+}
+
+static void exp_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    check_recovery(&out, user, 3, 0.02);
+}
+
+static void test_exp_fit(void **state)
+{
+    optim_fit_data d;
+    optim_problem pb = {"exp", 3, 0, {1.0, 0.1, 0.0}, optim_exp_fit};
+    (void)state;
+    optim_make_exp_data(&d);
+    pb.n_rows = d.n;
+    for_each_combo(&pb, &d, 0, exp_combo);
+    /* a start on the far side: the first trial points have b < 0 */
+    pb.x0[1] = 3.0;
+    for_each_combo(&pb, &d, 0, exp_combo);
+}
+
+static void rational_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
+{
+    run_out out;
+    run_problem(pb, user, cfg, &out);
+    check_recovery(&out, user, 4, 0.05);
+}
+
+static void test_rational_fit(void **state)
+{
+    optim_fit_data d;
+    optim_problem pb = {"rational", 4, 0, {1.0, 1.0, 0.1, 0.1}, optim_rational_fit};
+    (void)state;
+    optim_make_rational_data(&d);
+    pb.n_rows = d.n;
+    /* the thesis's lambda floor makes Levenberg scaling slow here */
+    for_each_combo(&pb, &d, 1000, rational_combo);
+}
+
+/* All combinations of one fit land on the same minimum. */
+static void test_fits_agree_across_combinations(void **state)
+{
+    optim_fit_data d;
+    optim_problem pb = {"rational", 4, 0, {1.0, 1.0, 0.1, 0.1}, optim_rational_fit};
+    run_cfg cfg = {2, 0, 1, 1000};
+    run_out ref, out;
+    size_t j;
+    (void)state;
+    optim_make_rational_data(&d);
+    pb.n_rows = d.n;
+    run_problem(&pb, &d, &cfg, &ref);
+    for (cfg.policy = 0; cfg.policy < N_POLICIES; cfg.policy++) {
+        for (cfg.normal = 0; cfg.normal < 2; cfg.normal++) {
+            for (cfg.marquardt = 0; cfg.marquardt < 2; cfg.marquardt++) {
+                run_problem(&pb, &d, &cfg, &out);
+                assert_close(out.cost, ref.cost, 1e-9);
+                for (j = 0; j < 4; j++) assert_close(out.x[j], ref.x[j], 1e-4);
+            }
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rosenbrock),
+        cmocka_unit_test(test_powell_singular),
+        cmocka_unit_test(test_freudenstein_roth),
+        cmocka_unit_test(test_meyer),
+        cmocka_unit_test(test_box3d),
+        cmocka_unit_test(test_jennrich_sampson),
+        cmocka_unit_test(test_exp_fit),
+        cmocka_unit_test(test_rational_fit),
+        cmocka_unit_test(test_fits_agree_across_combinations),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
