@@ -1,0 +1,257 @@
+/**
+ * @file fit.h
+ * @brief Fitting a model to a measured grid: the pipelines (auto, joint,
+ *        two-stage), their options and their results.
+ *
+ * A fit binds a grid and a model (both borrowed: they must outlive the fit
+ * and may be shared with other fits and threads) and options; brdffit_fit_run()
+ * computes the parameters that minimise the weighted cost of SPEC section 4,
+ *
+ *     cost = sum over active samples s and channels c of
+ *            (w_s * (M_c(s; p) - R_c(s)))^2,
+ *
+ * w_s the residual weight of brdffit_grid_weights(), R the measured value
+ * (divided by 1 - F(theta_i) with clear-coat compensation), M the model.
+ *
+ * Pipelines:
+ * - ::BRDFFIT_PIPELINE_AUTO (default): no start values. The parameters that
+ *   enter linearly (colours) are solved exactly, non-negative, for any value
+ *   of the others (variable projection); the other parameters are searched
+ *   globally over their whole range (a log-spaced scan for exponents and
+ *   roughness, refined around every local minimum), and every parameter is
+ *   then polished by Levenberg-Marquardt under the model's bounds. The result
+ *   is deterministic and does not depend on any start value.
+ * - ::BRDFFIT_PIPELINE_JOINT: one Levenberg-Marquardt run over all
+ *   parameters of all channels from the start values.
+ * - ::BRDFFIT_PIPELINE_TWO_STAGE: the thesis's method: the shape and mean
+ *   colours fitted to the channel mean from the start values, then each
+ *   channel's colours with the shape held fixed.
+ *
+ * Every pipeline keeps parameters inside the model's bounds (colours >= 0,
+ * Fresnel terms in [0, 1], exponents and roughness in range) and optimises
+ * logarithmic-scale parameters in log space.
+ *
+ * A fit handle is not thread-safe: use each from one thread at a time
+ * (brdffit_fit_cancel() excepted). Different fits may run in parallel, also
+ * on the same grid and model.
+ */
+#ifndef BRDFFIT_FIT_H
+#define BRDFFIT_FIT_H
+
+#include <stddef.h>
+
+#include "brdffit/alloc.h"
+#include "brdffit/export.h"
+#include "brdffit/grid.h"
+#include "brdffit/model.h"
+#include "brdffit/optim.h"
+#include "brdffit/status.h"
+
+/** @defgroup fit Fitting
+ * @{ */
+
+/** @brief Opaque fit. */
+typedef struct brdffit_fit brdffit_fit;
+
+/** @brief Fit pipelines. Values are fixed forever. */
+typedef enum brdffit_pipeline {
+    BRDFFIT_PIPELINE_AUTO = 0,      /**< Global search with linear colours, then LM polish. */
+    BRDFFIT_PIPELINE_JOINT = 1,     /**< One LM run over everything from the start values. */
+    BRDFFIT_PIPELINE_TWO_STAGE = 2  /**< The thesis's channel-mean stage, then per-channel colours. */
+} brdffit_pipeline;
+
+/** @brief Numeric fit settings for brdffit_fit_set(). Values are fixed forever. */
+typedef enum brdffit_fit_setting {
+    BRDFFIT_FIT_PIPELINE = 1,       /**< A ::brdffit_pipeline; default ::BRDFFIT_PIPELINE_AUTO. */
+    BRDFFIT_FIT_CAP = 2,            /**< Angle cap in radians, 0 .. pi/2; default ::BRDFFIT_DEFAULT_CAP (75 deg). */
+    BRDFFIT_FIT_WEIGHTING = 3,      /**< ::brdffit_weighting flags; default ::BRDFFIT_WEIGHT_DEFAULT. */
+    BRDFFIT_FIT_CLEARCOAT = 4,      /**< Clear-coat R0 in [0, 1); 0 (default) switches compensation off. */
+    BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
+    BRDFFIT_FIT_MAX_ITERATIONS = 6  /**< Iteration limit of each LM run; default 200. */
+} brdffit_fit_setting;
+
+/** @brief Error figures reported by brdffit_fit_error(). Values are fixed forever. */
+typedef enum brdffit_fit_metric {
+    BRDFFIT_METRIC_RMS = 0,  /**< e of eq. 4.1: sqrt of the sum of squared unweighted differences inside the cap. */
+    BRDFFIT_METRIC_NGAN = 1, /**< E of eq. 3.5: sqrt(sum w (R cos - M cos)^2 / sum w), w the solid-angle weight. */
+    BRDFFIT_METRIC_COST = 2  /**< The weighted cost the fit minimises. */
+} brdffit_fit_metric;
+
+/** @brief Channel index meaning "all channels together" in brdffit_fit_error(). */
+#define BRDFFIT_ALL_CHANNELS ((size_t)-1)
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * @brief Create a fit of @p model to @p grid with default options.
+ * @param[out] out Receives the fit (owned by the caller).
+ * @param grid     The measurement (borrowed; must outlive the fit).
+ * @param model    The model (borrowed; must outlive the fit).
+ * @param alloc    Allocator for the fit's own memory, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT;
+ *         ::BRDFFIT_E_BAD_HANDLE for a destroyed grid or model;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_create(brdffit_fit **out, const brdffit_grid *grid,
+                                              const brdffit_model *model,
+                                              const brdffit_allocator *alloc,
+                                              brdffit_error *err);
+
+/** @brief Destroy a fit. NULL is a no-op. The grid and model are not touched. */
+BRDFFIT_API void brdffit_fit_destroy(brdffit_fit *fit);
+
+/**
+ * @brief The message of the last failed call on @p fit, owned by the fit and
+ *        valid until the next call on it; "" after success. Never NULL.
+ */
+BRDFFIT_API const char *brdffit_fit_message(const brdffit_fit *fit);
+
+/**
+ * @brief Set a numeric option (see ::brdffit_fit_setting for ranges and
+ *        defaults).
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an unknown setting
+ *         or a value out of range (the message says which).
+ */
+BRDFFIT_API brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting,
+                                           double value);
+
+/** @brief Read a numeric option. @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT. */
+BRDFFIT_API brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setting,
+                                           double *value);
+
+/**
+ * @brief Set the damping policy of every LM run (copied; its @c user is
+ *        borrowed). NULL restores the default, brdffit_damping_nielsen().
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an incomplete policy.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_set_damping(brdffit_fit *fit,
+                                                   const brdffit_damping *policy);
+
+/**
+ * @brief Set start values for the joint and two-stage pipelines (copied);
+ *        NULL restores the model's defaults. The auto pipeline ignores
+ *        them, except for parameters held fixed.
+ * @param fit    The fit.
+ * @param params brdffit_model_vector_size(model, n_channels of the grid) values.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (also for NaN);
+ *         ::BRDFFIT_E_RANGE for a value outside the model's bounds.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params);
+
+/**
+ * @brief Hold a parameter fixed at its start value (@p fixed non-zero) or
+ *        let the fit change it (@p fixed zero). By default, parameters the
+ *        model flags ::BRDFFIT_PARAM_FIXED are held and the others are free.
+ * @param fit   The fit.
+ * @param param Parameter index in declaration order.
+ * @param fixed Non-zero to hold the parameter, zero to free it.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed);
+
+/**
+ * @brief Set a callback called after every iteration of every LM run
+ *        (NULL removes it); returning non-zero stops the fit
+ *        (::BRDFFIT_STOP_CALLBACK). @p user is borrowed.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_set_callback(brdffit_fit *fit, brdffit_iteration_fn fn,
+                                                    void *user);
+
+/**
+ * @brief Ask a running fit to stop. Any thread may call this at any time;
+ *        the fit stops within one iteration (or one scan step) with
+ *        ::BRDFFIT_STOP_CANCELLED. The request is consumed when the run ends.
+ */
+BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
+
+/**
+ * @brief Run the fit with the current options.
+ *
+ * @return ::BRDFFIT_OK when parameters were found (also when a limit, a
+ *         cancel or the callback ended the last LM run early: see
+ *         brdffit_fit_stop_reason()); ::BRDFFIT_E_NO_DATA when no sample
+ *         lies inside the cap or every value there is missing;
+ *         ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE when the model or
+ *         the data give NaN or Inf at the start; ::BRDFFIT_E_OUT_OF_MEMORY;
+ *         ::BRDFFIT_E_BAD_HANDLE. brdffit_fit_message() says more.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_run(brdffit_fit *fit);
+
+/** @brief Length of the parameter vector (brdffit_model_vector_size() for the grid's channels). */
+BRDFFIT_API size_t brdffit_fit_param_count(const brdffit_fit *fit);
+
+/**
+ * @brief The fitted parameter vector (layout of model.h).
+ * @param fit         The fit.
+ * @param[out] params brdffit_fit_param_count() values.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
+ *         ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_params(const brdffit_fit *fit, double *params);
+
+/**
+ * @brief Standard errors of the fitted parameters from the final LM run's
+ *        covariance (log-scale parameters converted by the delta method);
+ *        0 for parameters held fixed or at a bound.
+ * @param fit     The fit.
+ * @param[out] se brdffit_fit_param_count() values.
+ * @return As brdffit_fit_params().
+ */
+BRDFFIT_API brdffit_status brdffit_fit_std_errors(const brdffit_fit *fit, double *se);
+
+/**
+ * @brief An error figure of the fitted parameters.
+ * @param fit     The fit.
+ * @param metric  Which figure.
+ * @param channel A channel index, or ::BRDFFIT_ALL_CHANNELS.
+ * @param[out] value Receives it.
+ * @return As brdffit_fit_params().
+ */
+BRDFFIT_API brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit_metric metric,
+                                             size_t channel, double *value);
+
+/**
+ * @brief The renderer form of SPEC section 6 for models with diffuse and
+ *        specular colours "cd" and "cs".
+ *
+ * For a model with a Fresnel parameter "Rs" the fitted Rs, cd and cs are
+ * the shader's. Otherwise Rs = max over channels of cs, cs / Rs and
+ * cd / (1 - Rs) (cs = 0 when Rs = 0).
+ * @param fit    The fit.
+ * @param[out] rs Receives Rs.
+ * @param[out] cd n_channels shader diffuse colours.
+ * @param[out] cs n_channels shader specular colours.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY; ::BRDFFIT_E_UNSUPPORTED for
+ *         a model without "cd" and "cs"; ::BRDFFIT_E_RANGE when max(cs) >= 1
+ *         (no shader form exists); ::BRDFFIT_E_INVALID_ARGUMENT.
+ */
+BRDFFIT_API brdffit_status brdffit_fit_shader(const brdffit_fit *fit, double *rs, double *cd,
+                                              double *cs);
+
+/** @brief Why the final LM run ended; ::BRDFFIT_STOP_NONE before a run. */
+BRDFFIT_API brdffit_stop_reason brdffit_fit_stop_reason(const brdffit_fit *fit);
+
+/** @brief Iterations of the final LM run. */
+BRDFFIT_API size_t brdffit_fit_iterations(const brdffit_fit *fit);
+
+/**
+ * @brief Cost and lambda per iteration of the final LM run, as
+ *        brdffit_optimizer_history().
+ * @return The number of values written to each non-NULL array.
+ */
+BRDFFIT_API size_t brdffit_fit_history(const brdffit_fit *fit, double *cost, double *lambda);
+
+/** @brief Passes over the samples the last run made (scan and LM together). */
+BRDFFIT_API size_t brdffit_fit_passes(const brdffit_fit *fit);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+
+#endif /* BRDFFIT_FIT_H */

@@ -1,0 +1,62 @@
+/* One pass over the active samples of a grid: the fused inner loop of every
+ * fit. A pass evaluates the model chunk by chunk (never more than BF_CHUNK
+ * samples at a time, so the Jacobian is never stored whole) and accumulates
+ * one of:
+ *   COST    [cost]
+ *   NORMAL  [cost, J^T r (n), J^T J (n * n, upper triangle then mirrored)]
+ *           in model-parameter space, n = model vector size, r = w (M - R)
+ *   VARPRO  per channel m: [R^T W R, B^T W R (K), B^T W B (K * K)], B the
+ *           columns of the K linear parameters, W = diag(w^2)
+ *   METRICS per channel m: [sum d^2, sum a (cos d)^2, sum a, sum (w d)^2],
+ *           d = M - R, a the solid-angle weight alone
+ * Threads take contiguous blocks of chunks and their partial sums are added
+ * in thread order, so a pass is deterministic for a given thread count. */
+#ifndef BRDFFIT_FIT_PASS_H
+#define BRDFFIT_FIT_PASS_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+
+#include "brdffit/model.h"
+#include "grid/grid_internal.h"
+
+typedef enum bf_source { BF_SOURCE_CHANNELS, BF_SOURCE_ONE_CHANNEL, BF_SOURCE_MEAN } bf_source;
+
+typedef enum bf_pass_kind { BF_PASS_COST, BF_PASS_NORMAL, BF_PASS_VARPRO, BF_PASS_METRICS } bf_pass_kind;
+
+#define BF_MAX_THREADS 64
+
+typedef struct bf_problem {
+    const brdffit_grid *grid;
+    const brdffit_model *model;
+    const bf_weight_plan *plan;    /* the fit's residual weights */
+    const bf_weight_plan *plan_sa; /* solid angle alone, for METRICS */
+    size_t nc;                     /* model channels */
+    bf_source source;
+    size_t source_channel;         /* BF_SOURCE_ONE_CHANNEL */
+    double clearcoat;              /* R0; 0 = off */
+    size_t n_vec;                  /* model vector size for nc */
+    size_t n_linear;               /* linear declared parameters */
+    size_t linear[16];             /* their declared indices */
+    const size_t *vindex;          /* [k * nc + m]: vector index of declared k, channel m */
+    size_t threads;
+    double *work;                  /* bf_pass_work_size() doubles, owned by the caller */
+} bf_problem;
+
+/* Doubles of workspace a pass of any kind needs (all threads together). */
+size_t bf_pass_work_size(const bf_problem *pb);
+
+/* Size of the accumulator of a pass, in doubles. */
+size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind);
+
+/* Run a pass at model parameters `params` (natural units, model vector
+ * layout; for VARPRO the linear entries are ignored). acc receives
+ * bf_pass_acc_size() doubles. Never allocates: it works in pb->work. */
+brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                       double *acc, brdffit_error *err);
+
+/* Number of (sample, channel) values the weights include with a non-zero
+ * factor and a present measurement. */
+brdffit_status bf_count_rows(const bf_problem *pb, size_t *rows, brdffit_error *err);
+
+#endif /* BRDFFIT_FIT_PASS_H */

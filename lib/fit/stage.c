@@ -1,0 +1,250 @@
+/* Stages: problem binding, parameter mapping and LM runs. See stage.h. */
+#include "fit/stage.h"
+
+#include <math.h>
+#include <stdatomic.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "models/model_internal.h"
+
+static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t n_acc,
+                                  size_t n_work)
+{
+    const brdffit_allocator *a = &st->run->fit->alloc;
+    st->vindex = bf_calloc(a, n_index, sizeof(size_t));
+    st->decl = bf_calloc(a, n, sizeof(size_t));
+    st->logs = bf_calloc(a, n, 2);
+    st->lower = bf_calloc(a, 9 * n + n_acc, sizeof(double));
+    st->pb.work = bf_calloc(a, n_work, sizeof(double));
+    if (!st->vindex || !st->decl || !st->logs || !st->lower || !st->pb.work)
+        return BRDFFIT_E_OUT_OF_MEMORY;
+    st->fixed = st->logs + n;
+    st->upper = st->lower + n;
+    st->olower = st->lower + 2 * n;
+    st->oupper = st->lower + 3 * n;
+    st->base = st->lower + 4 * n;
+    st->p = st->lower + 5 * n;
+    st->result = st->lower + 6 * n;
+    st->se = st->lower + 7 * n;
+    st->acc = st->lower + 9 * n;
+    return BRDFFIT_OK;
+}
+
+static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t source_channel)
+{
+    brdffit_fit *fit = st->run->fit;
+    const brdffit_model *model = fit->model;
+    size_t k;
+    memset(&st->pb, 0, sizeof st->pb);
+    st->pb.grid = fit->grid;
+    st->pb.model = model;
+    st->pb.plan = &st->run->plan;
+    st->pb.plan_sa = &st->run->plan_sa;
+    st->pb.nc = nc;
+    st->pb.source = source;
+    st->pb.source_channel = source_channel;
+    st->pb.clearcoat = fit->clearcoat;
+    st->pb.n_vec = brdffit_model_vector_size(model, nc);
+    st->pb.threads = fit->threads;
+    for (k = 0; k < model->n_params && st->pb.n_linear < 16; k++)
+        if (model->params[k].flags & BRDFFIT_PARAM_LINEAR) st->pb.linear[st->pb.n_linear++] = k;
+}
+
+/* Mean over the fit's channels of the start values of declared k. */
+static double start_value(const brdffit_fit *fit, size_t k, size_t m, size_t nc)
+{
+    size_t c;
+    double sum = 0.0;
+    if (nc == fit->nc) return fit->start[brdffit_model_vector_index(fit->model, k, m, nc)];
+    for (c = 0; c < fit->nc; c++)
+        sum += fit->start[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
+    return sum / (double)fit->nc;
+}
+
+static void fill_mapping(bf_stage *st, size_t nc, int fix_shared)
+{
+    brdffit_fit *fit = st->run->fit;
+    const brdffit_model *model = fit->model;
+    size_t k, m;
+    for (k = 0; k < model->n_params; k++) {
+        const brdffit_param_info *info = &model->params[k];
+        int per = (info->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
+        for (m = 0; m < nc; m++) {
+            size_t e = brdffit_model_vector_index(model, k, m, nc);
+            st->vindex[k * nc + m] = e;
+            st->decl[e] = k;
+            st->logs[e] = (info->flags & BRDFFIT_PARAM_LOG_SCALE) != 0;
+            st->fixed[e] = fit->fixed[k] || (fix_shared && !per);
+            st->lower[e] = info->lower;
+            st->upper[e] = info->upper;
+            st->olower[e] = st->logs[e] ? log(info->lower) : info->lower;
+            st->oupper[e] = st->logs[e] ? log(info->upper) : info->upper;
+            st->base[e] = start_value(fit, k, m, nc);
+        }
+    }
+    st->pb.vindex = st->vindex;
+}
+
+brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source source,
+                             size_t source_channel, int fix_shared)
+{
+    size_t n, n_acc;
+    memset(st, 0, sizeof *st);
+    st->run = run;
+    fill_problem(st, nc, source, source_channel);
+    n = st->pb.n_vec;
+    st->n = n;
+    n_acc = bf_pass_acc_size(&st->pb, BF_PASS_NORMAL);
+    if (bf_pass_acc_size(&st->pb, BF_PASS_VARPRO) > n_acc)
+        n_acc = bf_pass_acc_size(&st->pb, BF_PASS_VARPRO);
+    if (bf_pass_acc_size(&st->pb, BF_PASS_METRICS) > n_acc)
+        n_acc = bf_pass_acc_size(&st->pb, BF_PASS_METRICS);
+    if (stage_alloc(st, n, run->fit->model->n_params * nc, n_acc, bf_pass_work_size(&st->pb)) !=
+        BRDFFIT_OK) {
+        bf_stage_free(st);
+        return BRDFFIT_E_OUT_OF_MEMORY;
+    }
+    fill_mapping(st, nc, fix_shared);
+    return BRDFFIT_OK;
+}
+
+void bf_stage_free(bf_stage *st)
+{
+    const brdffit_allocator *a;
+    if (st->run == NULL) return;
+    a = &st->run->fit->alloc;
+    brdffit_optimizer_destroy(st->opt);
+    bf_free(a, st->vindex);
+    bf_free(a, st->decl);
+    bf_free(a, st->logs);
+    bf_free(a, st->lower);
+    bf_free(a, st->pb.work);
+    memset(st, 0, sizeof *st);
+}
+
+brdffit_status bf_stage_fail(bf_stage *st, brdffit_status status, const char *what)
+{
+    brdffit_fit *fit = st->run->fit;
+    if (st->status != BRDFFIT_OK) {
+        status = st->status;
+        bf_format(fit->message, sizeof fit->message, "%s: %s", what, st->err.message);
+    } else if (status == BRDFFIT_E_OUT_OF_MEMORY) {
+        bf_format(fit->message, sizeof fit->message, "%s: out of memory", what);
+    } else {
+        bf_format(fit->message, sizeof fit->message, "%s: %s", what,
+                  st->opt ? brdffit_optimizer_message(st->opt) : brdffit_status_string(status));
+    }
+    return status;
+}
+
+static void to_natural(const bf_stage *st, const double *x, double *p)
+{
+    size_t e;
+    for (e = 0; e < st->n; e++) p[e] = st->logs[e] ? exp(x[e]) : x[e];
+}
+
+static void to_optimiser(const bf_stage *st, const double *p, double *x)
+{
+    size_t e;
+    for (e = 0; e < st->n; e++) {
+        double v = p[e];
+        if (v < st->lower[e]) v = st->lower[e];
+        if (v > st->upper[e]) v = st->upper[e];
+        x[e] = st->logs[e] ? log(v) : v;
+    }
+}
+
+/* The optimizer's normal-equation callback: a fused pass with the chain
+ * rule of the log mapping applied. */
+static brdffit_status stage_normal(const double *x, double *cost, double *jtj, double *jtr,
+                                   void *user)
+{
+    bf_stage *st = user;
+    size_t n = st->n, a, b;
+    brdffit_status status;
+    to_natural(st, x, st->p);
+    st->run->passes++;
+    status = bf_pass(&st->pb, jtj ? BF_PASS_NORMAL : BF_PASS_COST, st->p, st->acc, &st->err);
+    if (status != BRDFFIT_OK) {
+        st->status = status;
+        return status;
+    }
+    *cost = st->acc[0];
+    if (jtj == NULL) return BRDFFIT_OK;
+    for (a = 0; a < n; a++) {
+        double fa = st->logs[a] ? st->p[a] : 1.0;
+        jtr[a] = st->acc[1 + a] * fa;
+        for (b = 0; b < n; b++) {
+            double fb = st->logs[b] ? st->p[b] : 1.0;
+            jtj[a * n + b] = st->acc[1 + n + a * n + b] * fa * fb;
+        }
+    }
+    return BRDFFIT_OK;
+}
+
+/* The optimizer's iteration callback: cancel requests, then the user's
+ * callback with natural parameters. */
+static int stage_iteration(const brdffit_iteration *it, void *user)
+{
+    bf_stage *st = user;
+    brdffit_fit *fit = st->run->fit;
+    brdffit_iteration copy;
+    if (atomic_load(&fit->cancel)) {
+        st->run->cancelled = 1;
+        return 1;
+    }
+    if (fit->callback == NULL) return 0;
+    copy = *it;
+    to_natural(st, it->x, st->p);
+    copy.x = st->p;
+    return fit->callback(&copy, fit->callback_user);
+}
+
+static brdffit_status configure(bf_stage *st, size_t rows)
+{
+    brdffit_fit *fit = st->run->fit;
+    brdffit_optimizer *opt = st->opt;
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set_normal(opt, rows, stage_normal, st));
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set_bounds(opt, st->olower, st->oupper));
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set_fixed(opt, st->fixed));
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set_damping(opt, &fit->damping));
+    BF_RETURN_IF_ERROR(
+        brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, (double)fit->max_iterations));
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_EVALUATIONS,
+                                             (double)(5 * fit->max_iterations + 10)));
+    return brdffit_optimizer_set_callback(opt, stage_iteration, st);
+}
+
+static void collect(bf_stage *st, const double *x)
+{
+    size_t e;
+    to_natural(st, x, st->result);
+    st->cost = brdffit_optimizer_final_cost(st->opt);
+    if (brdffit_optimizer_std_errors(st->opt, st->se) != BRDFFIT_OK)
+        memset(st->se, 0, st->n * sizeof *st->se);
+    for (e = 0; e < st->n; e++)
+        if (st->logs[e]) st->se[e] *= st->result[e];
+}
+
+brdffit_status bf_stage_lm(bf_stage *st, const double *start)
+{
+    brdffit_fit *fit = st->run->fit;
+    size_t rows;
+    double *x = st->result; /* the optimiser works in place, then collect() maps back */
+    brdffit_status status;
+    brdffit_optimizer_destroy(st->opt);
+    st->opt = NULL;
+    st->status = BRDFFIT_OK;
+    status = brdffit_optimizer_create(&st->opt, st->n, &fit->alloc, NULL);
+    if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "creating the optimizer");
+    bf_count_rows(&st->pb, &rows, NULL);
+    if (rows == 0) return bf_stage_fail(st, BRDFFIT_E_NO_DATA, "no measured value inside the cap");
+    status = configure(st, rows);
+    if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "configuring the optimizer");
+    to_optimiser(st, start, x);
+    status = brdffit_optimizer_run(st->opt, x);
+    if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
+    collect(st, x);
+    return BRDFFIT_OK;
+}

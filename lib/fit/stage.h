@@ -1,0 +1,56 @@
+/* A stage: one binding of the fit's grid and model in one channel layout,
+ * with the mapping between natural parameters and the optimiser's space
+ * (log for logarithmic-scale parameters), and one Levenberg-Marquardt run
+ * over it. Every pipeline is a sequence of stages. Not installed. */
+#ifndef BRDFFIT_FIT_STAGE_H
+#define BRDFFIT_FIT_STAGE_H
+
+#include <stddef.h>
+
+#include "fit/fit_internal.h"
+#include "fit/pass.h"
+
+/* What one fit run shares between its stages. */
+typedef struct bf_run {
+    brdffit_fit *fit;
+    bf_weight_plan plan, plan_sa;
+    size_t passes;
+    int cancelled;
+} bf_run;
+
+typedef struct bf_stage {
+    bf_run *run;
+    bf_problem pb;
+    size_t n;               /* vector size */
+    size_t *vindex;         /* n_params * nc */
+    size_t *decl;           /* n: declared parameter of each entry */
+    unsigned char *logs;    /* n: optimised in log space */
+    unsigned char *fixed;   /* n: held */
+    double *lower, *upper;  /* n: natural bounds */
+    double *olower, *oupper;/* n: optimiser-space bounds */
+    double *base;           /* n: natural start / held values */
+    double *p;              /* n: natural scratch */
+    double *acc;            /* NORMAL accumulator */
+    double *result;         /* n: natural result of the last LM run */
+    double *se;             /* n: natural standard errors of the last LM run */
+    double cost;            /* final cost of the last LM run */
+    brdffit_optimizer *opt; /* the last LM run's optimizer */
+    brdffit_status status;  /* last pass failure, for the message */
+    brdffit_error err;
+} bf_stage;
+
+/* Set up a stage over `nc` model channels fed by `source`. Fixed entries
+ * follow the fit's per-parameter flags; `fix_shared` also holds every
+ * shared parameter (the thesis's second stage). */
+brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source source,
+                             size_t source_channel, int fix_shared);
+void bf_stage_free(bf_stage *st);
+
+/* One LM run from natural `start` (clamped into the bounds); fills
+ * st->result, st->se, st->cost and keeps st->opt for the history. */
+brdffit_status bf_stage_lm(bf_stage *st, const double *start);
+
+/* Report a failure of the stage on the fit handle and return it. */
+brdffit_status bf_stage_fail(bf_stage *st, brdffit_status status, const char *what);
+
+#endif
