@@ -10,6 +10,10 @@
 #ifndef BRDFFIT_EXPORT_H
 #define BRDFFIT_EXPORT_H
 
+/**
+ * @def BRDFFIT_API
+ * @brief Marks a function as part of the library's exported interface.
+ */
 #if defined(BRDFFIT_STATIC)
 #define BRDFFIT_API
 #elif defined(_WIN32)
@@ -19,7 +23,6 @@
 #define BRDFFIT_API __declspec(dllimport)
 #endif
 #elif defined(__GNUC__) && __GNUC__ >= 4
-/** Marks a function as part of the library's exported interface. */
 #define BRDFFIT_API __attribute__((visibility("default")))
 #else
 #define BRDFFIT_API
