@@ -11,7 +11,9 @@
 
 #include "brdffit/alloc.h"
 #include "brdffit/export.h"
+#include "brdffit/fit.h"
 #include "brdffit/grid.h"
+#include "brdffit/image.h"
 #include "brdffit/load.h"
 #include "brdffit/model.h"
 #include "brdffit/optim.h"

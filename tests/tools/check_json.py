@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Checks of `brdffit fit --json` output for the tool tests.
+
+    check_json.py schema OUT [FILE...]
+        every line is one JSON object with the required keys first, in
+        order, with the documented types; with FILE arguments, there is one
+        line per file, in that order.
+    check_json.py near OUT REL NAME=V[:V...]...
+        the first line's params match the values within relative tolerance
+        REL (NAME=V for a shared parameter, NAME=V1:V2:V3 per channel).
+"""
+import json
+import math
+import sys
+
+REQUIRED = ["file", "model", "pipeline", "channels", "params", "shader", "errors",
+            "iterations", "stop", "fit_ms"]
+
+
+def fail(msg):
+    sys.stderr.write("check_json: %s\n" % msg)
+    sys.exit(1)
+
+
+def is_number(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def numbers(x, n):
+    return isinstance(x, list) and len(x) == n and all(is_number(v) for v in x)
+
+
+def check_object(obj, line_no):
+    keys = list(obj.keys())
+    if keys[:len(REQUIRED)] != REQUIRED:
+        fail("line %d: keys %s, expected %s first" % (line_no, keys, REQUIRED))
+    n = obj["channels"]
+    checks = [
+        (isinstance(obj["file"], str), "file is a string"),
+        (isinstance(obj["model"], str), "model is a string"),
+        (obj["pipeline"] in ("auto", "joint", "two-stage"), "pipeline is known"),
+        (isinstance(n, int) and not isinstance(n, bool) and n >= 1, "channels is a count"),
+        (isinstance(obj["params"], dict) and len(obj["params"]) >= 1, "params is an object"),
+        (all(is_number(v) or numbers(v, n) for v in obj["params"].values()),
+         "params are numbers or per-channel arrays"),
+        (obj["shader"] is None or (isinstance(obj["shader"], dict)
+                                   and list(obj["shader"].keys()) == ["Rs", "cd", "cs"]
+                                   and is_number(obj["shader"]["Rs"])
+                                   and numbers(obj["shader"]["cd"], n)
+                                   and numbers(obj["shader"]["cs"], n)),
+         "shader is null or {Rs, cd[], cs[]}"),
+        (isinstance(obj["errors"], dict) and list(obj["errors"].keys()) == ["rms", "ngan", "cost"]
+         and all(is_number(v) for v in obj["errors"].values()), "errors is {rms, ngan, cost}"),
+        (isinstance(obj["iterations"], int) and obj["iterations"] >= 0, "iterations is a count"),
+        (isinstance(obj["stop"], str) and obj["stop"] != "", "stop is a string"),
+        (is_number(obj["fit_ms"]) and obj["fit_ms"] >= 0, "fit_ms is a number"),
+    ]
+    for ok, what in checks:
+        if not ok:
+            fail("line %d: expected: %s; got %s" % (line_no, what, json.dumps(obj)))
+
+
+def read_lines(path):
+    with open(path, encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    if not lines:
+        fail("no output")
+    try:
+        return [json.loads(line) for line in lines]
+    except ValueError as e:
+        fail("not JSON: %s" % e)
+
+
+def schema(path, files):
+    objs = read_lines(path)
+    for i, obj in enumerate(objs, 1):
+        check_object(obj, i)
+    if files and [o["file"] for o in objs] != files:
+        fail("files %s, expected %s" % ([o["file"] for o in objs], files))
+    print("ok: %d object(s)" % len(objs))
+
+
+def near(path, rel, specs):
+    params = read_lines(path)[0]["params"]
+    for spec in specs:
+        name, _, text = spec.partition("=")
+        want = [float(v) for v in text.split(":")]
+        got = params.get(name)
+        got = got if isinstance(got, list) else [got]
+        if len(got) != len(want):
+            fail("%s: %s, expected %s" % (name, got, want))
+        for g, w in zip(got, want):
+            if not is_number(g) or abs(g - w) > rel * abs(w):
+                fail("%s: %r, expected %r within %g relative" % (name, g, w, rel))
+    print("ok: %s" % " ".join(specs))
+
+
+def main(argv):
+    if len(argv) >= 3 and argv[1] == "schema":
+        schema(argv[2], argv[3:])
+    elif len(argv) >= 5 and argv[1] == "near":
+        near(argv[2], float(argv[3]), argv[4:])
+    else:
+        fail("usage: check_json.py schema OUT [FILE...] | near OUT REL NAME=V...")
+
+
+if __name__ == "__main__":
+    main(sys.argv)

@@ -1,0 +1,185 @@
+/* The brdffit command: declarations shared by its source files. The
+ * command uses the public API of libbrdffit only. */
+#ifndef BRDFFIT_CLI_H
+#define BRDFFIT_CLI_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "brdffit/brdffit.h"
+
+/* Exit statuses. */
+enum { CLI_OK = 0, CLI_FAILED = 1, CLI_USAGE = 2 };
+
+#define CLI_MSG_SIZE 512
+
+/* --- args.c: hand-written option parsing ----------------------------------- */
+
+/* One option of a subcommand: name without the leading "--", and whether
+ * it takes a value ("--name VALUE" or "--name=VALUE"). */
+typedef struct cli_option {
+    const char *name;
+    int takes_value;
+} cli_option;
+
+/* Walks argv. cli_next() returns 1 with *name set to the option (or NULL
+ * for a positional argument, then *value is that argument) and *value to
+ * its value (NULL for flags); 0 at the end; -1 after a usage error, which
+ * it has printed. "--" ends the options. */
+typedef struct cli_args {
+    int argc, index, only_positional;
+    char **argv;
+    const cli_option *options;
+} cli_args;
+
+void cli_args_init(cli_args *a, int argc, char **argv, const cli_option *options);
+int cli_next(cli_args *a, const char **name, const char **value);
+
+/* Strict number parsing: the whole string must be the number. */
+int cli_parse_double(const char *s, double *out);
+int cli_parse_size(const char *s, size_t *out);
+
+/* --- util.c -------------------------------------------------------------- */
+
+/* "brdffit: FILE: message" (or "brdffit: message" for a NULL file) on one
+ * line of stderr. */
+void cli_error(const char *file, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* A usage error: the message, then a hint to --help; returns CLI_USAGE. */
+int cli_usage_error(const char *command, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+void cli_format(char *buf, size_t size, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* The shortest %g form that reads back as x. */
+void cli_shortest(char *buf, size_t size, double x);
+
+/* Milliseconds on a monotonic clock. */
+double cli_now_ms(void);
+
+/* The file name without directories and without its last extension. */
+void cli_base_name(const char *path, char *out, size_t size);
+
+/* Write a file so that it appears complete or not at all: the writer fills
+ * a temporary file next to `path`, which is then renamed over it. The
+ * writer returns 0 on success or fills msg. Returns 0 on success; on
+ * failure msg says why and no file (neither `path` nor the temporary one)
+ * is left behind. */
+typedef int (*cli_writer)(FILE *f, void *ctx, char *msg, size_t msg_size);
+int cli_write_atomic(const char *path, cli_writer writer, void *ctx, char *msg, size_t msg_size);
+
+/* Append `size` bytes to `path` with one write(2) (O_APPEND), creating
+ * the file when missing. When the file is empty or new, `header` (may be
+ * NULL) is written first, in the same write. When the file is not empty
+ * and `header` is given, its first line must equal the header. */
+int cli_append(const char *path, const char *header, const char *data, size_t size, char *msg,
+               size_t msg_size);
+
+/* A growable string. */
+typedef struct cli_buf {
+    char *data;
+    size_t len, cap;
+    int failed; /* out of memory at some point */
+} cli_buf;
+void cli_buf_init(cli_buf *b);
+void cli_buf_free(cli_buf *b);
+void cli_buf_printf(cli_buf *b, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void cli_buf_puts(cli_buf *b, const char *s);
+void cli_buf_write(cli_buf *b, const char *data, size_t size);
+/* A JSON string literal (quoted, escaped, invalid UTF-8 replaced). */
+void cli_buf_json_string(cli_buf *b, const char *s);
+/* A JSON number with %.17g, or null when not finite. */
+void cli_buf_json_number(cli_buf *b, double x);
+/* A CSV field, quoted when it holds a comma, quote or line break. */
+void cli_buf_csv_field(cli_buf *b, const char *s);
+
+/* --- load.c -------------------------------------------------------------- */
+
+/* Load a measurement: MERL binary (by extension .binary or by its header)
+ * resampled onto the default axes, else CSV. `what` receives a short
+ * description of the source ("CSV" or "MERL binary, resampled onto the
+ * default axes"). On failure msg holds the library's message. */
+brdffit_status cli_load(const char *path, brdffit_grid **grid, const char **what, char *msg,
+                        size_t msg_size);
+
+/* --- params.c: NAME=VALUE,... lists ---------------------------------------- */
+
+/* One assignment: parameter index, and 1 value (all channels) or one per
+ * channel. */
+typedef struct cli_assign {
+    size_t param;
+    size_t n_values;
+    double *values;
+} cli_assign;
+
+typedef struct cli_assign_list {
+    size_t count;
+    cli_assign *items;
+} cli_assign_list;
+
+/* Parse "NAME=v,NAME=v1:v2:v3" against a model's parameter names. */
+int cli_assign_parse(cli_assign_list *list, const brdffit_model *model, const char *text, char *msg,
+                     size_t msg_size);
+void cli_assign_free(cli_assign_list *list);
+/* Fill a parameter vector for n_channels: model defaults, then the list. */
+int cli_assign_vector(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
+                      double *params, char *msg, size_t msg_size);
+
+/* --- preview.c / png.c ------------------------------------------------------- */
+
+typedef struct cli_preview_input {
+    const char *title; /* drawn at the top (capitals) */
+    const brdffit_grid *grid;
+    const brdffit_model *model;
+    const double *params;
+    const double *history; /* cost per iteration */
+    size_t n_history;
+    double gain, gamma;
+} cli_preview_input;
+
+/* An RGB picture owned by the caller (free pixels with free()). */
+typedef struct cli_picture {
+    unsigned char *pixels;
+    size_t width, height;
+} cli_picture;
+
+/* font.c: 5 x 7 pixel text, clipped to the picture. */
+#define CLI_GLYPH_ADVANCE 6
+#define CLI_GLYPH_HEIGHT 7
+void cli_draw_text(unsigned char *px, size_t stride, size_t width, size_t height, size_t x,
+                   size_t y, const char *text, const unsigned char rgb[3]);
+
+int cli_preview_render(const cli_preview_input *in, cli_picture *out, char *msg, size_t msg_size);
+int cli_png_available(void);
+/* Write a picture as PNG, atomically (see cli_write_atomic). */
+int cli_png_write(const char *path, const cli_picture *pic, const char *description, char *msg,
+                  size_t msg_size);
+
+/* --- subcommands ------------------------------------------------------------- */
+
+int cli_cmd_fit(int argc, char **argv);
+int cli_cmd_info(int argc, char **argv);
+int cli_cmd_models(int argc, char **argv);
+int cli_cmd_synth(int argc, char **argv);
+
+/* Short token of a stop reason for JSON and CSV ("gradient", ...). */
+const char *cli_stop_token(brdffit_stop_reason reason);
+/* Name of a pipeline ("auto", "joint", "two-stage"). */
+const char *cli_pipeline_name(brdffit_pipeline p);
+
+#endif /* BRDFFIT_CLI_H */

@@ -1,0 +1,487 @@
+/* brdffit fit FILE...: fit a model to every file, files in parallel, and
+ * report in the order the files were given. */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "fit_result.h"
+
+#define PI 3.14159265358979323846
+
+static const char fit_help[] =
+    "usage: brdffit fit [OPTIONS] FILE...\n"
+    "\n"
+    "Fit a model to each measurement (CSV, or MERL .binary resampled onto the\n"
+    "default axes) and print the result.\n"
+    "\n"
+    "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
+    "  --pipeline P          auto (default: global search, no start values), joint\n"
+    "                        or two-stage (the thesis's method, from start values)\n"
+    "  --start LIST          start values, NAME=VALUE (all channels) or\n"
+    "                        NAME=V1:V2:V3 (one per channel), comma-separated\n"
+    "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
+    "  --no-solid-angle      do not weight residuals by the solid angle of the cell\n"
+    "  --no-cosine           do not weight residuals by cos theta_i\n"
+    "  --clearcoat R0        divide the data by 1 - F(theta_i), Schlick F with R0\n"
+    "  --max-iterations N    iteration limit of each Levenberg-Marquardt run\n"
+    "  --threads N           files fitted in parallel (one file: threads of the fit)\n"
+    "  --json                one JSON object per file on stdout, one per line\n"
+    "  --csv OUT             append one row per fitted file to OUT (header when new)\n"
+    "  --preview OUT.png     write a picture of the fit; with several files OUT\n"
+    "                        must contain %s, replaced by each file's base name\n"
+    "  --gain G              brightness of the preview textures; default 3\n"
+    "  --gamma G             gamma of the preview pictures; default 2.2\n"
+    "\n"
+    "Exit status: 0 when every file was fitted, 1 when some failed, 2 for usage\n"
+    "errors.\n";
+
+typedef struct fit_opts {
+    const char *model_name, *start_text, *csv_path, *preview;
+    brdffit_pipeline pipeline;
+    double cap, clearcoat, gain, gamma;
+    unsigned weighting;
+    size_t threads, max_iterations;
+    int json;
+} fit_opts;
+
+/* Shared by the workers; the mutex guards next, done and n_done. */
+typedef struct fit_run {
+    const fit_opts *opts;
+    const brdffit_model *model;
+    const cli_assign_list *start;
+    char **files;
+    size_t n_files, next, n_done;
+    fit_result *results;
+    int *done;
+    pthread_mutex_t lock;
+    pthread_cond_t cond;
+} fit_run;
+
+/* --- one file ---------------------------------------------------------------- */
+
+static int fail(fit_result *r, brdffit_status st, const char *msg)
+{
+    r->status = st;
+    cli_format(r->error, sizeof r->error, "%s", msg);
+    return -1;
+}
+
+static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
+{
+    const fit_opts *o = run->opts;
+    char msg[CLI_MSG_SIZE];
+    double *start;
+    brdffit_status st = BRDFFIT_OK;
+    double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
+    if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, o->clearcoat)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, threads)) != BRDFFIT_OK ||
+        (o->max_iterations > 0 && (st = brdffit_fit_set(fit, BRDFFIT_FIT_MAX_ITERATIONS,
+                                                        (double)o->max_iterations)) != BRDFFIT_OK))
+        return fail(r, st, brdffit_fit_message(fit));
+    if (run->start->count == 0) return 0;
+    start = malloc(r->n_params * sizeof(double));
+    if (start == NULL) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
+    if (cli_assign_vector(run->start, run->model, r->n_channels, start, msg, sizeof msg) != 0)
+        fail(r, BRDFFIT_E_INVALID_ARGUMENT, msg);
+    else if ((st = brdffit_fit_set_start(fit, start)) != BRDFFIT_OK)
+        fail(r, st, brdffit_fit_message(fit));
+    free(start);
+    return r->error[0] != '\0' ? -1 : 0;
+}
+
+static int collect(brdffit_fit *fit, fit_result *r)
+{
+    size_t nc = r->n_channels;
+    r->params = calloc(r->n_params, sizeof(double));
+    r->se = calloc(r->n_params, sizeof(double));
+    r->shader_cd = calloc(nc, sizeof(double));
+    r->shader_cs = calloc(nc, sizeof(double));
+    if (r->params == NULL || r->se == NULL || r->shader_cd == NULL || r->shader_cs == NULL)
+        return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
+    if (brdffit_fit_params(fit, r->params) != BRDFFIT_OK ||
+        brdffit_fit_std_errors(fit, r->se) != BRDFFIT_OK ||
+        brdffit_fit_error(fit, BRDFFIT_METRIC_RMS, BRDFFIT_ALL_CHANNELS, &r->rms) != BRDFFIT_OK ||
+        brdffit_fit_error(fit, BRDFFIT_METRIC_NGAN, BRDFFIT_ALL_CHANNELS, &r->ngan) != BRDFFIT_OK ||
+        brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &r->cost) != BRDFFIT_OK)
+        return fail(r, BRDFFIT_E_NOT_READY, brdffit_fit_message(fit));
+    r->has_shader = brdffit_fit_shader(fit, &r->rs, r->shader_cd, r->shader_cs) == BRDFFIT_OK;
+    r->iterations = brdffit_fit_iterations(fit);
+    r->stop = brdffit_fit_stop_reason(fit);
+    r->fitted = 1;
+    return 0;
+}
+
+/* The preview file name of one input: every %s replaced by its base name. */
+static char *preview_name(const char *pattern, const char *path)
+{
+    char base[256], *out, *q;
+    const char *p;
+    size_t n = strlen(pattern) + 1;
+    cli_base_name(path, base, sizeof base);
+    for (p = strstr(pattern, "%s"); p != NULL; p = strstr(p + 2, "%s")) n += strlen(base);
+    out = malloc(n);
+    if (out == NULL) return NULL;
+    for (p = pattern, q = out; *p != '\0';) {
+        if (p[0] == '%' && p[1] == 's') {
+            strcpy(q, base);
+            q += strlen(base);
+            p += 2;
+        } else
+            *q++ = *p++;
+    }
+    *q = '\0';
+    return out;
+}
+
+static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_run *run,
+                          fit_result *r)
+{
+    cli_preview_input in;
+    cli_picture pic = {NULL, 0, 0};
+    char msg[CLI_MSG_SIZE], desc[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
+    char *name = preview_name(run->opts->preview, r->path);
+    double *history = NULL;
+    size_t n = brdffit_fit_history(fit, NULL, NULL);
+    if (name == NULL || (n > 0 && (history = malloc(n * sizeof(double))) == NULL)) {
+        fail(r, BRDFFIT_E_OUT_OF_MEMORY, "preview: out of memory");
+        free(name);
+        return;
+    }
+    brdffit_fit_history(fit, history, NULL);
+    in.grid = grid;
+    in.model = run->model;
+    in.params = r->params;
+    in.history = history;
+    in.n_history = n;
+    in.gain = run->opts->gain;
+    in.gamma = run->opts->gamma;
+    cli_format(desc, sizeof desc, "brdffit fit preview of %s, model %s", r->path,
+               brdffit_model_name(run->model));
+    cli_base_name(r->path, base, sizeof base);
+    cli_format(title, sizeof title, "%s: %s, %s pipeline, e %.3g, E %.3g", base,
+               brdffit_model_name(run->model), cli_pipeline_name(r->pipeline), r->rms, r->ngan);
+    in.title = title;
+    if (cli_preview_render(&in, &pic, msg, sizeof msg) != 0 ||
+        cli_png_write(name, &pic, desc, msg, sizeof msg) != 0) {
+        char full[CLI_MSG_SIZE + 300];
+        cli_format(full, sizeof full, "preview %s: %s", name, msg);
+        fail(r, BRDFFIT_E_IO, full);
+    }
+    free(pic.pixels);
+    free(history);
+    free(name);
+}
+
+static void fit_one(const fit_run *run, fit_result *r)
+{
+    brdffit_grid *grid = NULL;
+    brdffit_fit *fit = NULL;
+    brdffit_error err;
+    brdffit_status st;
+    char msg[CLI_MSG_SIZE];
+    double t0;
+    if ((st = cli_load(r->path, &grid, &r->source, msg, sizeof msg)) != BRDFFIT_OK) {
+        fail(r, st, msg);
+        return;
+    }
+    r->n_channels = brdffit_grid_channel_count(grid);
+    r->n_samples = brdffit_grid_sample_count(grid);
+    r->n_active = brdffit_grid_active_count(grid, run->opts->cap);
+    r->n_params = brdffit_model_vector_size(run->model, r->n_channels);
+    if ((st = brdffit_fit_create(&fit, grid, run->model, NULL, &err)) != BRDFFIT_OK)
+        fail(r, st, err.message);
+    else if (configure(fit, run, r) == 0) {
+        t0 = cli_now_ms();
+        st = brdffit_fit_run(fit);
+        r->fit_ms = cli_now_ms() - t0;
+        if (st != BRDFFIT_OK)
+            fail(r, st, brdffit_fit_message(fit));
+        else if (collect(fit, r) == 0 && run->opts->preview != NULL)
+            write_preview(fit, grid, run, r);
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+}
+
+static void *worker(void *arg)
+{
+    fit_run *run = arg;
+    for (;;) {
+        size_t i;
+        pthread_mutex_lock(&run->lock);
+        i = run->next < run->n_files ? run->next++ : run->n_files;
+        pthread_mutex_unlock(&run->lock);
+        if (i == run->n_files) return NULL;
+        fit_one(run, &run->results[i]);
+        pthread_mutex_lock(&run->lock);
+        run->done[i] = 1;
+        run->n_done++;
+        pthread_cond_broadcast(&run->cond);
+        pthread_mutex_unlock(&run->lock);
+    }
+}
+
+/* --- output, in file order ---------------------------------------------------- */
+
+static void progress(const fit_run *run, size_t n_done, int clear)
+{
+    enum { WIDTH = 30 };
+    char bar[WIDTH + 1];
+    size_t i, filled = run->n_files ? n_done * WIDTH / run->n_files : 0;
+    if (clear) {
+        fprintf(stderr, "\r%*s\r", WIDTH + 40, "");
+        return;
+    }
+    for (i = 0; i < WIDTH; i++) bar[i] = i < filled ? '#' : '.';
+    bar[WIDTH] = '\0';
+    fprintf(stderr, "\r[%s] %zu/%zu files", bar, n_done, run->n_files);
+    fflush(stderr);
+}
+
+static int output(const fit_run *run, fit_result *r, int show_progress)
+{
+    char msg[CLI_MSG_SIZE];
+    cli_buf b;
+    int ok = r->fitted && r->error[0] == '\0';
+    cli_buf_init(&b);
+    if (show_progress) progress(run, 0, 1);
+    if (r->error[0] != '\0') cli_error(r->path, "%s", r->error);
+    if (run->opts->json)
+        fit_json(&b, r);
+    else if (r->fitted)
+        fit_summary(&b, r);
+    if (b.len > 0) fwrite(b.data, 1, b.len, stdout);
+    fflush(stdout);
+    if (r->fitted && run->opts->csv_path != NULL) {
+        cli_buf header, row;
+        cli_buf_init(&header);
+        cli_buf_init(&row);
+        fit_csv_header(&header, r);
+        fit_csv_row(&row, r);
+        if (header.failed || row.failed) {
+            cli_error(run->opts->csv_path, "out of memory");
+            ok = 0;
+        } else if (cli_append(run->opts->csv_path, header.data, row.data, row.len, msg,
+                              sizeof msg) != 0) {
+            cli_error(run->opts->csv_path, "%s (row of %s not written)", msg, r->path);
+            ok = 0;
+        }
+        cli_buf_free(&header);
+        cli_buf_free(&row);
+    }
+    cli_buf_free(&b);
+    return ok;
+}
+
+static size_t start_workers(fit_run *run, pthread_t *threads, size_t n)
+{
+    size_t started = 0;
+    while (started < n && pthread_create(&threads[started], NULL, worker, run) == 0) started++;
+    return started;
+}
+
+static int run_all(fit_run *run)
+{
+    size_t n_threads = run->opts->threads < run->n_files ? run->opts->threads : run->n_files;
+    pthread_t *threads = calloc(n_threads, sizeof(pthread_t));
+    size_t started = threads != NULL ? start_workers(run, threads, n_threads) : 0, i;
+    int all_ok = 1, show = run->n_files > 1 && isatty(fileno(stderr));
+    if (started == 0) worker(run); /* no thread could be started: fit here */
+    for (i = 0; i < run->n_files; i++) {
+        pthread_mutex_lock(&run->lock);
+        while (!run->done[i]) {
+            if (show) progress(run, run->n_done, 0);
+            pthread_cond_wait(&run->cond, &run->lock);
+        }
+        pthread_mutex_unlock(&run->lock);
+        all_ok &= output(run, &run->results[i], show);
+        fit_result_free(&run->results[i]);
+        if (show && i + 1 < run->n_files) progress(run, run->n_done, 0);
+    }
+    if (show) progress(run, 0, 1);
+    for (i = 0; i < started; i++) pthread_join(threads[i], NULL);
+    free(threads);
+    return all_ok ? CLI_OK : CLI_FAILED;
+}
+
+/* --- options ------------------------------------------------------------------ */
+
+static int parse_pipeline(const char *s, brdffit_pipeline *p)
+{
+    if (strcmp(s, "auto") == 0)
+        *p = BRDFFIT_PIPELINE_AUTO;
+    else if (strcmp(s, "joint") == 0)
+        *p = BRDFFIT_PIPELINE_JOINT;
+    else if (strcmp(s, "two-stage") == 0)
+        *p = BRDFFIT_PIPELINE_TWO_STAGE;
+    else
+        return 0;
+    return 1;
+}
+
+/* A number in [lo, hi], or in [lo, hi) with hi_open. */
+static int number_option(const char *name, const char *value, double lo, double hi, int hi_open,
+                         double *out)
+{
+    double x;
+    if (!cli_parse_double(value, &x) || !(x >= lo) || (hi_open ? !(x < hi) : !(x <= hi)))
+        return cli_usage_error("fit", "--%s needs a number in [%g, %g%s, not \"%s\"", name, lo, hi,
+                               hi_open ? ")" : "]", value);
+    *out = x;
+    return 0;
+}
+
+static int option_value(fit_opts *o, const char *name, const char *value)
+{
+    double x = 0.0;
+    if (strcmp(name, "model") == 0)
+        o->model_name = value;
+    else if (strcmp(name, "start") == 0)
+        o->start_text = value;
+    else if (strcmp(name, "csv") == 0)
+        o->csv_path = value;
+    else if (strcmp(name, "preview") == 0)
+        o->preview = value;
+    else if (strcmp(name, "pipeline") == 0) {
+        if (!parse_pipeline(value, &o->pipeline))
+            return cli_usage_error("fit", "--pipeline is auto, joint or two-stage");
+    } else if (strcmp(name, "cap") == 0) {
+        if (!cli_parse_double(value, &x) || !(x > 0.0 && x <= 90.0))
+            return cli_usage_error("fit", "--cap needs degrees in (0, 90], not \"%s\"", value);
+        o->cap = x * PI / 180.0;
+    } else if (strcmp(name, "clearcoat") == 0)
+        return number_option(name, value, 0.0, 1.0, 1, &o->clearcoat);
+    else if (strcmp(name, "gain") == 0)
+        return number_option(name, value, 0.0, 1e6, 0, &o->gain);
+    else if (strcmp(name, "gamma") == 0)
+        return number_option(name, value, 0.1, 10.0, 0, &o->gamma);
+    else if (strcmp(name, "threads") == 0) {
+        if (!cli_parse_size(value, &o->threads) || o->threads < 1 || o->threads > 256)
+            return cli_usage_error("fit", "--threads needs a count from 1 to 256");
+    } else if (strcmp(name, "max-iterations") == 0) {
+        if (!cli_parse_size(value, &o->max_iterations) || o->max_iterations < 1 ||
+            o->max_iterations > 1000000)
+            return cli_usage_error("fit", "--max-iterations needs a count from 1 to 1000000");
+    }
+    return 0;
+}
+
+static int option_flag(fit_opts *o, const char *name)
+{
+    if (strcmp(name, "help") == 0) {
+        fputs(fit_help, stdout);
+        return -1;
+    }
+    if (strcmp(name, "json") == 0)
+        o->json = 1;
+    else if (strcmp(name, "no-solid-angle") == 0)
+        o->weighting &= ~(unsigned)BRDFFIT_WEIGHT_SOLID_ANGLE;
+    else if (strcmp(name, "no-cosine") == 0)
+        o->weighting &= ~(unsigned)BRDFFIT_WEIGHT_COSINE;
+    return 0;
+}
+
+/* Collect the files into argv's front; returns their number, or -1 (help
+ * printed: exit 0) or -2 (usage error printed). */
+static int parse_options(fit_opts *o, int argc, char **argv)
+{
+    static const cli_option options[] = {{"help", 0},      {"model", 1},     {"pipeline", 1},
+                                         {"start", 1},     {"cap", 1},       {"no-solid-angle", 0},
+                                         {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1},
+                                         {"threads", 1},   {"json", 0},      {"csv", 1},
+                                         {"preview", 1},   {"gain", 1},      {"gamma", 1},
+                                         {NULL, 0}};
+    cli_args a;
+    const char *name, *value;
+    int r, n_files = 0;
+    cli_args_init(&a, argc, argv, options);
+    while ((r = cli_next(&a, &name, &value)) > 0) {
+        if (name == NULL)
+            argv[n_files++] = (char *)value;
+        else if (value != NULL ? option_value(o, name, value) != 0
+                               : (r = option_flag(o, name)) != 0)
+            return r < 0 ? -1 : -2;
+    }
+    return r < 0 ? -2 : n_files;
+}
+
+static int check_options(const fit_opts *o, int n_files)
+{
+    if (n_files == 0) return cli_usage_error("fit", "no FILE given");
+    if (o->preview != NULL && !cli_png_available())
+        return cli_usage_error("fit", "--preview is not available: brdffit was built without "
+                                      "libpng");
+    if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
+        return cli_usage_error("fit", "--preview with several files needs %%s in its name");
+    return 0;
+}
+
+static int fit_files(const fit_opts *o, char **files, size_t n_files)
+{
+    brdffit_model *model = NULL;
+    brdffit_error err;
+    cli_assign_list start = {0, NULL};
+    char msg[CLI_MSG_SIZE];
+    fit_run run;
+    int rc;
+    size_t i;
+    if (brdffit_model_create(&model, o->model_name, NULL, &err) != BRDFFIT_OK)
+        return cli_usage_error("fit", "--model: %s", err.message);
+    if (o->start_text != NULL &&
+        cli_assign_parse(&start, model, o->start_text, msg, sizeof msg) != 0) {
+        brdffit_model_destroy(model);
+        return cli_usage_error("fit", "--start: %s", msg);
+    }
+    memset(&run, 0, sizeof run);
+    run.opts = o;
+    run.model = model;
+    run.start = &start;
+    run.files = files;
+    run.n_files = n_files;
+    run.results = calloc(n_files, sizeof(fit_result));
+    run.done = calloc(n_files, sizeof(int));
+    if (run.results == NULL || run.done == NULL) {
+        cli_error(NULL, "out of memory");
+        rc = CLI_FAILED;
+    } else {
+        for (i = 0; i < n_files; i++) {
+            run.results[i].path = files[i];
+            run.results[i].source = "";
+            run.results[i].model = model;
+            run.results[i].pipeline = o->pipeline;
+        }
+        pthread_mutex_init(&run.lock, NULL);
+        pthread_cond_init(&run.cond, NULL);
+        rc = run_all(&run);
+        pthread_cond_destroy(&run.cond);
+        pthread_mutex_destroy(&run.lock);
+    }
+    free(run.results);
+    free(run.done);
+    cli_assign_free(&start);
+    brdffit_model_destroy(model);
+    return rc;
+}
+
+int cli_cmd_fit(int argc, char **argv)
+{
+    fit_opts o;
+    int n_files;
+    memset(&o, 0, sizeof o);
+    o.model_name = "ashikhmin-shirley";
+    o.pipeline = BRDFFIT_PIPELINE_AUTO;
+    o.cap = BRDFFIT_DEFAULT_CAP;
+    o.weighting = BRDFFIT_WEIGHT_DEFAULT;
+    o.gain = 3.0;
+    o.gamma = 2.2;
+    o.threads = 1;
+    n_files = parse_options(&o, argc, argv);
+    if (n_files == -1) return CLI_OK;
+    if (n_files < 0) return CLI_USAGE;
+    if (check_options(&o, n_files) != 0) return CLI_USAGE;
+    return fit_files(&o, argv, (size_t)n_files);
+}

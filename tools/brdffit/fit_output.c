@@ -1,0 +1,267 @@
+/* brdffit fit: the summary, JSON and CSV forms of a result. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit_result.h"
+
+void fit_result_free(fit_result *r)
+{
+    free(r->params);
+    free(r->se);
+    free(r->shader_cd);
+    free(r->shader_cs);
+    r->params = r->se = r->shader_cd = r->shader_cs = NULL;
+}
+
+const char *cli_stop_token(brdffit_stop_reason reason)
+{
+    switch (reason) {
+    case BRDFFIT_STOP_NONE: return "none";
+    case BRDFFIT_STOP_GRADIENT: return "gradient";
+    case BRDFFIT_STOP_STEP: return "step";
+    case BRDFFIT_STOP_COST: return "cost";
+    case BRDFFIT_STOP_MAX_ITERATIONS: return "max-iterations";
+    case BRDFFIT_STOP_MAX_EVALUATIONS: return "max-evaluations";
+    case BRDFFIT_STOP_CANCELLED: return "cancelled";
+    case BRDFFIT_STOP_CALLBACK: return "callback";
+    case BRDFFIT_STOP_ZERO_COST: return "zero-cost";
+    }
+    return "unknown";
+}
+
+const char *cli_pipeline_name(brdffit_pipeline p)
+{
+    switch (p) {
+    case BRDFFIT_PIPELINE_AUTO: return "auto";
+    case BRDFFIT_PIPELINE_JOINT: return "joint";
+    case BRDFFIT_PIPELINE_TWO_STAGE: return "two-stage";
+    }
+    return "unknown";
+}
+
+/* Entries of parameter k in the vector: 1 shared, or one per channel. */
+static size_t param_width(const fit_result *r, size_t k)
+{
+    const brdffit_param_info *p = brdffit_model_param(r->model, k);
+    return p->flags & BRDFFIT_PARAM_PER_CHANNEL ? r->n_channels : 1;
+}
+
+static double param_at(const fit_result *r, const double *v, size_t k, size_t c)
+{
+    return v[brdffit_model_vector_index(r->model, k, c, r->n_channels)];
+}
+
+/* --- summary ------------------------------------------------------------------ */
+
+static void summary_param(cli_buf *b, const fit_result *r, size_t k)
+{
+    size_t c, n = param_width(r, k);
+    cli_buf_printf(b, "  %-12s", brdffit_model_param(r->model, k)->name);
+    for (c = 0; c < n; c++)
+        cli_buf_printf(b, "%s%.6g +- %.2g", c ? ", " : "", param_at(r, r->params, k, c),
+                       param_at(r, r->se, k, c));
+    cli_buf_puts(b, "\n");
+}
+
+static void summary_list(cli_buf *b, const double *v, size_t n)
+{
+    size_t c;
+    for (c = 0; c < n; c++) cli_buf_printf(b, " %.6g", v[c]);
+}
+
+void fit_summary(cli_buf *b, const fit_result *r)
+{
+    size_t k, n_decl = brdffit_model_param_count(r->model);
+    cli_buf_printf(b, "%s\n", r->path);
+    cli_buf_printf(b, "  %-12s%s, %zu channel%s, %zu samples, %zu inside the cap\n", "data",
+                   r->source, r->n_channels, r->n_channels == 1 ? "" : "s", r->n_samples,
+                   r->n_active);
+    cli_buf_printf(b, "  %-12s%s, pipeline %s\n", "model", brdffit_model_name(r->model),
+                   cli_pipeline_name(r->pipeline));
+    for (k = 0; k < n_decl; k++) summary_param(b, r, k);
+    cli_buf_printf(b, "  %-12s", "shader");
+    if (r->has_shader) {
+        cli_buf_printf(b, "Rs %.6g; cd", r->rs);
+        summary_list(b, r->shader_cd, r->n_channels);
+        cli_buf_puts(b, "; cs");
+        summary_list(b, r->shader_cs, r->n_channels);
+        cli_buf_puts(b, "\n");
+    } else
+        cli_buf_puts(b, "none (needs colours cd and cs with max(cs) < 1)\n");
+    cli_buf_printf(b, "  %-12se %.6g, E %.6g, cost %.6g\n", "errors", r->rms, r->ngan, r->cost);
+    cli_buf_printf(b, "  %-12s%zu (%s)\n", "iterations", r->iterations,
+                   brdffit_stop_reason_string(r->stop));
+    cli_buf_printf(b, "  %-12s%.0f ms\n", "fit time", r->fit_ms);
+}
+
+/* --- JSON -------------------------------------------------------------------------- */
+
+static void json_array(cli_buf *b, const double *v, size_t n)
+{
+    size_t c;
+    cli_buf_puts(b, "[");
+    for (c = 0; c < n; c++) {
+        if (c) cli_buf_puts(b, ", ");
+        cli_buf_json_number(b, v[c]);
+    }
+    cli_buf_puts(b, "]");
+}
+
+/* {"name": x, "name": [..], ...} of a parameter vector. */
+static void json_params(cli_buf *b, const fit_result *r, const double *v)
+{
+    size_t k, c, n_decl = brdffit_model_param_count(r->model);
+    cli_buf_puts(b, "{");
+    for (k = 0; k < n_decl; k++) {
+        const brdffit_param_info *p = brdffit_model_param(r->model, k);
+        if (k) cli_buf_puts(b, ", ");
+        cli_buf_json_string(b, p->name);
+        cli_buf_puts(b, ": ");
+        if (!(p->flags & BRDFFIT_PARAM_PER_CHANNEL)) {
+            cli_buf_json_number(b, param_at(r, v, k, 0));
+            continue;
+        }
+        cli_buf_puts(b, "[");
+        for (c = 0; c < r->n_channels; c++) {
+            if (c) cli_buf_puts(b, ", ");
+            cli_buf_json_number(b, param_at(r, v, k, c));
+        }
+        cli_buf_puts(b, "]");
+    }
+    cli_buf_puts(b, "}");
+}
+
+static void json_failure(cli_buf *b, const fit_result *r)
+{
+    cli_buf_puts(b, "{\"file\": ");
+    cli_buf_json_string(b, r->path);
+    cli_buf_puts(b, ", \"error\": {\"status\": ");
+    cli_buf_json_string(b, brdffit_status_name(r->status));
+    cli_buf_puts(b, ", \"message\": ");
+    cli_buf_json_string(b, r->error);
+    cli_buf_puts(b, "}}\n");
+}
+
+void fit_json(cli_buf *b, const fit_result *r)
+{
+    if (!r->fitted) {
+        json_failure(b, r);
+        return;
+    }
+    cli_buf_puts(b, "{\"file\": ");
+    cli_buf_json_string(b, r->path);
+    cli_buf_puts(b, ", \"model\": ");
+    cli_buf_json_string(b, brdffit_model_name(r->model));
+    cli_buf_puts(b, ", \"pipeline\": ");
+    cli_buf_json_string(b, cli_pipeline_name(r->pipeline));
+    cli_buf_printf(b, ", \"channels\": %zu, \"params\": ", r->n_channels);
+    json_params(b, r, r->params);
+    cli_buf_puts(b, ", \"shader\": ");
+    if (r->has_shader) {
+        cli_buf_puts(b, "{\"Rs\": ");
+        cli_buf_json_number(b, r->rs);
+        cli_buf_puts(b, ", \"cd\": ");
+        json_array(b, r->shader_cd, r->n_channels);
+        cli_buf_puts(b, ", \"cs\": ");
+        json_array(b, r->shader_cs, r->n_channels);
+        cli_buf_puts(b, "}");
+    } else
+        cli_buf_puts(b, "null");
+    cli_buf_puts(b, ", \"errors\": {\"rms\": ");
+    cli_buf_json_number(b, r->rms);
+    cli_buf_puts(b, ", \"ngan\": ");
+    cli_buf_json_number(b, r->ngan);
+    cli_buf_puts(b, ", \"cost\": ");
+    cli_buf_json_number(b, r->cost);
+    cli_buf_printf(b, "}, \"iterations\": %zu, \"stop\": ", r->iterations);
+    cli_buf_json_string(b, cli_stop_token(r->stop));
+    cli_buf_puts(b, ", \"fit_ms\": ");
+    cli_buf_json_number(b, r->fit_ms);
+    cli_buf_puts(b, ", \"std_errors\": ");
+    json_params(b, r, r->se);
+    cli_buf_puts(b, ", \"source\": ");
+    cli_buf_json_string(b, r->source);
+    cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu}\n", r->n_samples, r->n_active);
+}
+
+/* --- CSV ------------------------------------------------------------------------ */
+
+static int has_shader_columns(const fit_result *r)
+{
+    size_t k;
+    return brdffit_model_param_find(r->model, "cd", &k) == BRDFFIT_OK &&
+           brdffit_model_param_find(r->model, "cs", &k) == BRDFFIT_OK;
+}
+
+/* Column names of a parameter vector, each with a prefix. */
+static void csv_param_names(cli_buf *b, const fit_result *r, const char *prefix)
+{
+    size_t k, c, n_decl = brdffit_model_param_count(r->model);
+    for (k = 0; k < n_decl; k++) {
+        const char *name = brdffit_model_param(r->model, k)->name;
+        if (!(brdffit_model_param(r->model, k)->flags & BRDFFIT_PARAM_PER_CHANNEL))
+            cli_buf_printf(b, ",%s%s", prefix, name);
+        else
+            for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",%s%s_%zu", prefix, name, c);
+    }
+}
+
+void fit_csv_header(cli_buf *b, const fit_result *r)
+{
+    size_t c;
+    cli_buf_puts(b, "file,model,pipeline,channels");
+    csv_param_names(b, r, "");
+    csv_param_names(b, r, "se_");
+    if (has_shader_columns(r)) {
+        cli_buf_puts(b, ",shader_Rs");
+        for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cd_%zu", c);
+        for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cs_%zu", c);
+    }
+    cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms");
+}
+
+static void csv_number(cli_buf *b, double x)
+{
+    if (isfinite(x))
+        cli_buf_printf(b, ",%.17g", x);
+    else
+        cli_buf_puts(b, ",");
+}
+
+static void csv_vector(cli_buf *b, const double *v, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++) csv_number(b, v[i]);
+}
+
+/* The vector in declaration order (the library's layout is that order). */
+static void csv_params(cli_buf *b, const fit_result *r, const double *v)
+{
+    size_t k, c, n_decl = brdffit_model_param_count(r->model);
+    for (k = 0; k < n_decl; k++)
+        for (c = 0; c < param_width(r, k); c++) csv_number(b, param_at(r, v, k, c));
+}
+
+void fit_csv_row(cli_buf *b, const fit_result *r)
+{
+    size_t c;
+    cli_buf_csv_field(b, r->path);
+    cli_buf_puts(b, ",");
+    cli_buf_csv_field(b, brdffit_model_name(r->model));
+    cli_buf_printf(b, ",%s,%zu", cli_pipeline_name(r->pipeline), r->n_channels);
+    csv_params(b, r, r->params);
+    csv_params(b, r, r->se);
+    if (has_shader_columns(r) && r->has_shader) {
+        csv_number(b, r->rs);
+        csv_vector(b, r->shader_cd, r->n_channels);
+        csv_vector(b, r->shader_cs, r->n_channels);
+    } else if (has_shader_columns(r))
+        for (c = 0; c < 1 + 2 * r->n_channels; c++) cli_buf_puts(b, ",");
+    csv_number(b, r->rms);
+    csv_number(b, r->ngan);
+    csv_number(b, r->cost);
+    cli_buf_printf(b, ",%zu,%s", r->iterations, cli_stop_token(r->stop));
+    csv_number(b, r->fit_ms);
+    cli_buf_puts(b, "\n");
+}

@@ -1,0 +1,34 @@
+/* brdffit fit: the result of fitting one file, and its output forms. */
+#ifndef BRDFFIT_CLI_FIT_RESULT_H
+#define BRDFFIT_CLI_FIT_RESULT_H
+
+#include "cli.h"
+
+typedef struct fit_result {
+    const char *path;
+    const char *source; /* what cli_load() said about the file */
+    const brdffit_model *model;
+    brdffit_pipeline pipeline;
+    int fitted;               /* the fit produced parameters */
+    brdffit_status status;    /* the failure when not fitted */
+    char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
+    size_t n_channels, n_samples, n_active, n_params;
+    double *params, *se; /* n_params each */
+    int has_shader;
+    double rs, *shader_cd, *shader_cs; /* n_channels each */
+    double rms, ngan, cost;
+    size_t iterations;
+    brdffit_stop_reason stop;
+    double fit_ms;
+} fit_result;
+
+void fit_result_free(fit_result *r);
+
+/* The readable summary, the JSON object (one line, with '\n'), and the
+ * CSV header and row (without '\n' for the header, with it for the row). */
+void fit_summary(cli_buf *b, const fit_result *r);
+void fit_json(cli_buf *b, const fit_result *r);
+void fit_csv_header(cli_buf *b, const fit_result *r);
+void fit_csv_row(cli_buf *b, const fit_result *r);
+
+#endif /* BRDFFIT_CLI_FIT_RESULT_H */
