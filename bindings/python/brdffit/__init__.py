@@ -1,0 +1,52 @@
+"""Python binding of libbrdffit: fit analytic BRDF models to measured reflectance.
+
+The binding loads the C library's shared object with ctypes (set
+``BRDFFIT_LIBRARY`` to its full path, or install it where the dynamic loader
+finds it) and needs only numpy. Angles are radians, as in the C API.
+
+Main classes:
+
+- :class:`Grid`: a measurement (regular or scattered), from arrays or files;
+- :class:`Model`: a built-in model or one written in Python;
+- :class:`Fit`: fits a model to a grid and reports the result;
+- :class:`BrdffitError`: raised by every failing call, with ``status``,
+  ``status_name`` and the library's ``message``.
+
+Example::
+
+    import brdffit
+    grid = brdffit.Grid.load_csv("paint.csv")
+    model = brdffit.Model.builtin("ashikhmin-shirley")
+    fit = brdffit.Fit(grid, model).run()
+    print(fit.params_by_name(), fit.error("rms"))
+"""
+
+import math
+
+from ._lib import DEFAULT_CAP, lib as _clib
+from .errors import BrdffitError, Status, status_name, status_string
+from .fit import Fit, IterationInfo, METRICS, PIPELINES, STOP_REASONS
+from .grid import Grid, Weighting, default_axes
+from .model import JacobianReport, Model, ParamFlags, ParamInfo, ParamLayout
+
+__version__ = "0.1.0"
+
+__all__ = ["BrdffitError", "DEFAULT_CAP", "Fit", "Grid", "IterationInfo", "JacobianReport",
+           "METRICS", "Model", "PIPELINES", "ParamFlags", "ParamInfo", "ParamLayout",
+           "STOP_REASONS", "Status", "Weighting", "default_axes", "deg2rad",
+           "library_version", "rad2deg", "status_name", "status_string"]
+
+
+def library_version():
+    """The version string of the loaded C library, e.g. ``"0.1.0"``."""
+    return _clib.brdffit_version_string().decode()
+
+
+def deg2rad(degrees):
+    """Degrees to radians (works on floats and numpy arrays)."""
+    return degrees * (math.pi / 180.0)
+
+
+def rad2deg(radians):
+    """Radians to degrees (works on floats and numpy arrays)."""
+    return radians * (180.0 / math.pi)

@@ -1,0 +1,223 @@
+"""Loading of the shared library and ctypes declarations of the public C API.
+
+Every function the binding calls is declared here with argument and return
+types that mirror ``include/brdffit/*.h`` exactly: ``size_t`` is
+``c_size_t``, enums are ``c_int``, handles are opaque ``c_void_p`` values.
+Nothing outside this package should need this module.
+"""
+
+import ctypes
+import ctypes.util
+import os
+
+from ctypes import (CFUNCTYPE, POINTER, Structure, c_char, c_char_p, c_double, c_int,
+                    c_size_t, c_uint, c_ubyte, c_void_p)
+
+#: The ABI (major version) of the C library this binding was written for.
+ABI_MAJOR = 0
+
+# Fixed sizes and constants from the headers.
+ERROR_MESSAGE_SIZE = 256                   # BRDFFIT_ERROR_MESSAGE_SIZE
+DEFAULT_CAP = 1.3089969389957472           # BRDFFIT_DEFAULT_CAP (75 degrees)
+ALL_CHANNELS = ctypes.c_size_t(-1).value   # BRDFFIT_ALL_CHANNELS, (size_t)-1
+NO_INDEX = ctypes.c_size_t(-1).value       # (size_t)-1 from brdffit_model_vector_index
+
+
+class Error(Structure):
+    """struct brdffit_error (status.h)."""
+    _fields_ = [("status", c_int), ("message", c_char * ERROR_MESSAGE_SIZE)]
+
+
+class Axes(Structure):
+    """struct brdffit_axes (grid.h)."""
+    _fields_ = [("theta_i", POINTER(c_double)), ("n_theta_i", c_size_t),
+                ("theta_o", POINTER(c_double)), ("n_theta_o", c_size_t),
+                ("phi_o", POINTER(c_double)), ("n_phi_o", c_size_t)]
+
+
+class Batch(Structure):
+    """struct brdffit_batch (model.h)."""
+    _fields_ = [("struct_size", c_size_t), ("n", c_size_t),
+                ("lx", POINTER(c_double)), ("ly", POINTER(c_double)),
+                ("lz", POINTER(c_double)), ("vx", POINTER(c_double)),
+                ("vy", POINTER(c_double)), ("vz", POINTER(c_double)),
+                ("nl", POINTER(c_double)), ("nv", POINTER(c_double)),
+                ("nh", POINTER(c_double)), ("hv", POINTER(c_double)),
+                ("log_nh", POINTER(c_double)), ("rv", POINTER(c_double))]
+
+
+#: Names of the geometry arrays of a batch, in struct order.
+BATCH_ARRAYS = ("lx", "ly", "lz", "vx", "vy", "vz", "nl", "nv", "nh", "hv", "log_nh", "rv")
+
+
+class ParamInfo(Structure):
+    """struct brdffit_param_info (model.h)."""
+    _fields_ = [("name", c_char_p), ("flags", c_uint), ("lower", c_double),
+                ("upper", c_double), ("start", c_double)]
+
+
+#: brdffit_model_eval_fn
+EVAL_FN = CFUNCTYPE(c_int, POINTER(Batch), POINTER(c_double), c_size_t,
+                    POINTER(c_double), POINTER(c_double), c_void_p)
+#: void (*destroy)(void *user)
+DESTROY_FN = CFUNCTYPE(None, c_void_p)
+
+
+class ModelDef(Structure):
+    """struct brdffit_model_def (model.h)."""
+    _fields_ = [("struct_size", c_size_t), ("name", c_char_p), ("n_params", c_size_t),
+                ("params", POINTER(ParamInfo)), ("eval", EVAL_FN), ("user", c_void_p),
+                ("destroy", DESTROY_FN)]
+
+
+class JacobianReport(Structure):
+    """struct brdffit_jacobian_report (model.h)."""
+    _fields_ = [("struct_size", c_size_t), ("worst_error", c_double), ("param", c_size_t),
+                ("channel", c_size_t), ("sample", c_size_t), ("analytic", c_double),
+                ("numeric", c_double)]
+
+
+class Iteration(Structure):
+    """struct brdffit_iteration (optim.h)."""
+    _fields_ = [("struct_size", c_size_t), ("iteration", c_size_t), ("accepted", c_int),
+                ("cost", c_double), ("lambda_", c_double), ("rho", c_double),
+                ("x", POINTER(c_double)), ("n_params", c_size_t)]
+
+
+#: brdffit_iteration_fn
+ITERATION_FN = CFUNCTYPE(c_int, POINTER(Iteration), c_void_p)
+
+_P = c_void_p            # any opaque handle
+_PP = POINTER(c_void_p)  # handle out-parameter
+_D = POINTER(c_double)
+_E = POINTER(Error)
+_ALLOC = c_void_p        # const brdffit_allocator *: the binding always passes NULL
+
+# name: (restype, argtypes)
+_PROTOTYPES = {
+    # status.h, version.h
+    "brdffit_status_string": (c_char_p, [c_int]),
+    "brdffit_status_name": (c_char_p, [c_int]),
+    "brdffit_version_number": (c_uint, []),
+    "brdffit_version_string": (c_char_p, []),
+    # grid.h
+    "brdffit_axes_default": (POINTER(Axes), []),
+    "brdffit_grid_create_regular": (c_int, [_PP, POINTER(Axes), c_size_t, _D,
+                                            POINTER(c_ubyte), _ALLOC, _E]),
+    "brdffit_grid_create_scattered": (c_int, [_PP, c_size_t, _D, _D, _D, _D, c_size_t, _D,
+                                              POINTER(c_ubyte), _D, _ALLOC, _E]),
+    "brdffit_grid_destroy": (None, [_P]),
+    "brdffit_grid_get_kind": (c_int, [_P]),
+    "brdffit_grid_sample_count": (c_size_t, [_P]),
+    "brdffit_grid_channel_count": (c_size_t, [_P]),
+    "brdffit_grid_missing_count": (c_size_t, [_P]),
+    "brdffit_grid_axis": (c_int, [_P, c_int, POINTER(_D), POINTER(c_size_t)]),
+    "brdffit_grid_sample_angles": (c_int, [_P, c_size_t, _D, _D, _D, _D]),
+    "brdffit_grid_values": (c_int, [_P, c_size_t, POINTER(_D)]),
+    "brdffit_grid_is_missing": (c_int, [_P, c_size_t, c_size_t]),
+    "brdffit_grid_active_count": (c_size_t, [_P, c_double]),
+    "brdffit_grid_weights": (c_int, [_P, c_double, c_uint, _D, _E]),
+    "brdffit_grid_channel_mean": (c_int, [_PP, _P, _ALLOC, _E]),
+    "brdffit_grid_clearcoat": (c_int, [_PP, _P, c_double, _ALLOC, _E]),
+    "brdffit_grid_eval": (c_int, [_P, c_double, c_double, c_double, c_double, _D, _E]),
+    # load.h
+    "brdffit_load_csv": (c_int, [_PP, c_char_p, _ALLOC, _E]),
+    "brdffit_load_csv_buffer": (c_int, [_PP, c_char_p, c_size_t, _ALLOC, _E]),
+    "brdffit_load_merl": (c_int, [_PP, c_char_p, POINTER(Axes), _ALLOC, _E]),
+    "brdffit_load_merl_buffer": (c_int, [_PP, c_void_p, c_size_t, POINTER(Axes), _ALLOC,
+                                         _E]),
+    # model.h
+    "brdffit_model_def_init": (None, [POINTER(ModelDef)]),
+    "brdffit_model_builtin_count": (c_size_t, []),
+    "brdffit_model_builtin_name": (c_char_p, [c_size_t]),
+    "brdffit_model_create": (c_int, [_PP, c_char_p, _ALLOC, _E]),
+    "brdffit_model_create_custom": (c_int, [_PP, POINTER(ModelDef), _ALLOC, _E]),
+    "brdffit_model_destroy": (None, [_P]),
+    "brdffit_model_name": (c_char_p, [_P]),
+    "brdffit_model_param_count": (c_size_t, [_P]),
+    "brdffit_model_param": (POINTER(ParamInfo), [_P, c_size_t]),
+    "brdffit_model_param_find": (c_int, [_P, c_char_p, POINTER(c_size_t)]),
+    "brdffit_model_vector_size": (c_size_t, [_P, c_size_t]),
+    "brdffit_model_vector_index": (c_size_t, [_P, c_size_t, c_size_t, c_size_t]),
+    "brdffit_model_default_params": (c_int, [_P, c_size_t, _D]),
+    "brdffit_model_eval_grid": (c_int, [_P, _P, c_size_t, c_size_t, _D, _D, _D, _E]),
+    "brdffit_model_eval_angles": (c_int, [_P, c_size_t, _D, _D, _D, _D, c_size_t, _D, _D,
+                                          _D, _E]),
+    "brdffit_model_check_jacobian": (c_int, [_P, _P, _D, POINTER(JacobianReport), _E]),
+    # optim.h (only what the fit reports use)
+    "brdffit_stop_reason_string": (c_char_p, [c_int]),
+    # fit.h
+    "brdffit_fit_create": (c_int, [_PP, _P, _P, _ALLOC, _E]),
+    "brdffit_fit_destroy": (None, [_P]),
+    "brdffit_fit_message": (c_char_p, [_P]),
+    "brdffit_fit_set": (c_int, [_P, c_int, c_double]),
+    "brdffit_fit_get": (c_int, [_P, c_int, _D]),
+    "brdffit_fit_set_start": (c_int, [_P, _D]),
+    "brdffit_fit_set_fixed": (c_int, [_P, c_size_t, c_int]),
+    "brdffit_fit_set_callback": (c_int, [_P, ITERATION_FN, c_void_p]),
+    "brdffit_fit_cancel": (None, [_P]),
+    "brdffit_fit_run": (c_int, [_P]),
+    "brdffit_fit_param_count": (c_size_t, [_P]),
+    "brdffit_fit_params": (c_int, [_P, _D]),
+    "brdffit_fit_std_errors": (c_int, [_P, _D]),
+    "brdffit_fit_error": (c_int, [_P, c_int, c_size_t, _D]),
+    "brdffit_fit_shader": (c_int, [_P, _D, _D, _D]),
+    "brdffit_fit_stop_reason": (c_int, [_P]),
+    "brdffit_fit_iterations": (c_size_t, [_P]),
+    "brdffit_fit_history": (c_size_t, [_P, _D, _D]),
+    "brdffit_fit_passes": (c_size_t, [_P]),
+}
+
+
+def _candidates():
+    """Library names to try, most specific first."""
+    env = os.environ.get("BRDFFIT_LIBRARY")
+    if env:
+        return [env]
+    names = []
+    found = ctypes.util.find_library("brdffit")
+    if found:
+        names.append(found)
+    names += ["libbrdffit.so.%d" % ABI_MAJOR, "libbrdffit.so",
+              "libbrdffit.%d.dylib" % ABI_MAJOR, "libbrdffit.dylib", "brdffit.dll"]
+    return names
+
+
+def _load():
+    """Open the shared library and declare every prototype."""
+    errors = []
+    for name in _candidates():
+        try:
+            lib = ctypes.CDLL(name)
+            break
+        except OSError as exc:
+            errors.append("%s: %s" % (name, exc))
+    else:
+        raise OSError("cannot load the libbrdffit shared library; set BRDFFIT_LIBRARY to its "
+                      "full path (tried: %s)" % "; ".join(errors))
+    for fname, (restype, argtypes) in _PROTOTYPES.items():
+        fn = getattr(lib, fname)
+        fn.restype = restype
+        fn.argtypes = argtypes
+    major = lib.brdffit_version_number() // 10000
+    if major != ABI_MAJOR:
+        raise OSError("libbrdffit %s has ABI %d; this binding needs ABI %d"
+                      % (lib.brdffit_version_string().decode(), major, ABI_MAJOR))
+    return lib
+
+
+lib = _load()
+
+
+def dptr(array):
+    """A ``double *`` to the data of a float64 C-contiguous numpy array (or NULL for None)."""
+    if array is None:
+        return None
+    return array.ctypes.data_as(_D)
+
+
+def bptr(array):
+    """An ``unsigned char *`` to the data of a uint8 C-contiguous numpy array (or NULL)."""
+    if array is None:
+        return None
+    return array.ctypes.data_as(POINTER(c_ubyte))

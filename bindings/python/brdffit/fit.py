@@ -1,0 +1,404 @@
+"""Fitting a model to a measured grid."""
+
+import collections
+import ctypes
+
+import numpy as np
+
+from . import _lib
+from ._handle import Handle
+from ._lib import ALL_CHANNELS, dptr, lib
+from .errors import Status, check, new_error
+from .grid import Weighting
+
+__all__ = ["Fit", "IterationInfo", "PIPELINES", "METRICS", "STOP_REASONS"]
+
+#: Pipeline names and their ``brdffit_pipeline`` values.
+PIPELINES = {"auto": 0, "joint": 1, "two-stage": 2}
+#: Error metric names and their ``brdffit_fit_metric`` values.
+METRICS = {"rms": 0, "ngan": 1, "cost": 2}
+#: Stop reason names, indexed by ``brdffit_stop_reason`` value.
+STOP_REASONS = ("none", "gradient", "step", "cost", "max-iterations", "max-evaluations",
+                "cancelled", "callback", "zero-cost")
+
+# brdffit_fit_setting values
+_PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4, 5, 6
+
+#: What an iteration callback receives: the 1-based iteration number of the
+#: current LM run, whether the step was accepted, the cost at the current
+#: point, the damping lambda after the iteration, the gain ratio rho and a copy
+#: of the current parameters (the LM run's own parameter vector).
+IterationInfo = collections.namedtuple("IterationInfo", "iteration accepted cost lambda_ rho x")
+
+
+def _lookup(table, value, what):
+    if isinstance(value, str):
+        try:
+            return table[value]
+        except KeyError:
+            raise ValueError("unknown %s %r (one of %s)" % (what, value, ", ".join(table)))
+    return int(value)
+
+
+class Fit(Handle):
+    """A fit of a :class:`~brdffit.Model` to a :class:`~brdffit.Grid` (``brdffit_fit``).
+
+    Options may be given as keyword arguments or set later as properties:
+
+    - ``pipeline``: ``"auto"`` (default: global search, no start values),
+      ``"joint"`` or ``"two-stage"``;
+    - ``cap``: angle cap in radians (default 75 degrees);
+    - ``weighting``: :class:`~brdffit.Weighting` flags (default both);
+    - ``clearcoat``: clear-coat R0 in [0, 1), 0 = off;
+    - ``threads``: threads per pass over the samples, 1 .. 64;
+    - ``max_iterations``: iteration limit of each LM run;
+    - ``start``: start vector, or ``{name: value}`` on top of the model's
+      defaults (see :meth:`set_start`);
+    - ``fixed``: names (or indices) of parameters to hold at their start
+      value, or ``{name: bool}`` (see :meth:`set_fixed`);
+    - ``callback``: called after every LM iteration (see :meth:`set_callback`).
+
+    The fit keeps its grid and model alive; close it (or use ``with``) to
+    free it early. A fit is used from one thread at a time, except
+    :meth:`cancel`.
+    """
+
+    _kind = "fit"
+
+    def __init__(self, grid, model, **options):
+        super().__init__(None)
+        self._grid, self._model = grid, model
+        self._parents = []
+        self._callback = None
+        self._callback_error = None
+        self._layout = model.layout(grid.channel_count)
+        self._model_name = model.name
+        for parent in (grid, model):
+            parent._acquire()
+            self._parents.append(parent)
+        out = ctypes.c_void_p()
+        err = new_error()
+        status = lib.brdffit_fit_create(ctypes.byref(out), grid._ptr, model._ptr, None,
+                                        ctypes.byref(err))
+        if status != Status.OK:
+            self._release_parents()
+            check(status, err)
+        self._ptr = ctypes.c_void_p(out.value)
+        self.configure(**options)
+
+    def configure(self, pipeline=None, cap=None, weighting=None, clearcoat=None, threads=None,
+                  max_iterations=None, start=None, fixed=None, callback=None):
+        """Set several options at once; None leaves an option unchanged."""
+        for name, value in (("pipeline", pipeline), ("cap", cap), ("weighting", weighting),
+                            ("clearcoat", clearcoat), ("threads", threads),
+                            ("max_iterations", max_iterations)):
+            if value is not None:
+                setattr(self, name, value)
+        if start is not None:
+            self.set_start(start)
+        if fixed is not None:
+            self.set_fixed(fixed)
+        if callback is not None:
+            self.set_callback(callback)
+        return self
+
+    # ---- lifetime -----------------------------------------------------------
+
+    def _release_parents(self):
+        parents, self._parents = self._parents, []
+        for parent in parents:
+            parent._release()
+
+    def _destroy(self):
+        ptr, self._ptr = self._ptr, None
+        if ptr is not None:
+            lib.brdffit_fit_destroy(ptr)
+        self._callback = None
+        self._release_parents()
+
+    @property
+    def grid(self):
+        """The fitted :class:`~brdffit.Grid`."""
+        return self._grid
+
+    @property
+    def model(self):
+        """The :class:`~brdffit.Model`."""
+        return self._model
+
+    # ---- options ------------------------------------------------------------
+
+    def _check(self, status):
+        """Raise for a failed call on the fit, with the fit's message."""
+        if status != Status.OK:
+            msg = lib.brdffit_fit_message(self._handle).decode("utf-8", "replace")
+            check(status, message=msg)
+
+    def _set(self, setting, value):
+        self._check(lib.brdffit_fit_set(self._handle, setting, float(value)))
+
+    def _get(self, setting):
+        v = ctypes.c_double()
+        self._check(lib.brdffit_fit_get(self._handle, setting, ctypes.byref(v)))
+        return v.value
+
+    @property
+    def pipeline(self):
+        """``"auto"``, ``"joint"`` or ``"two-stage"``."""
+        value = int(self._get(_PIPELINE))
+        return {v: k for k, v in PIPELINES.items()}[value]
+
+    @pipeline.setter
+    def pipeline(self, value):
+        self._set(_PIPELINE, _lookup(PIPELINES, value, "pipeline"))
+
+    @property
+    def cap(self):
+        """Angle cap in radians, 0 .. pi/2."""
+        return self._get(_CAP)
+
+    @cap.setter
+    def cap(self, value):
+        self._set(_CAP, value)
+
+    @property
+    def weighting(self):
+        """:class:`~brdffit.Weighting` flags."""
+        return Weighting(int(self._get(_WEIGHTING)))
+
+    @weighting.setter
+    def weighting(self, value):
+        self._set(_WEIGHTING, int(value))
+
+    @property
+    def clearcoat(self):
+        """Clear-coat R0 in [0, 1); 0 switches compensation off."""
+        return self._get(_CLEARCOAT)
+
+    @clearcoat.setter
+    def clearcoat(self, value):
+        self._set(_CLEARCOAT, value)
+
+    @property
+    def threads(self):
+        """Threads for each pass over the samples, 1 .. 64."""
+        return int(self._get(_THREADS))
+
+    @threads.setter
+    def threads(self, value):
+        self._set(_THREADS, value)
+
+    @property
+    def max_iterations(self):
+        """Iteration limit of each LM run."""
+        return int(self._get(_MAX_ITERATIONS))
+
+    @max_iterations.setter
+    def max_iterations(self, value):
+        self._set(_MAX_ITERATIONS, value)
+
+    @property
+    def n_channels(self):
+        """Channel count of the grid."""
+        return self._layout.n_channels
+
+    @property
+    def layout(self):
+        """The model's :class:`~brdffit.ParamLayout` for the grid's channels."""
+        return self._layout
+
+    def set_start(self, start):
+        """Start values for the joint and two-stage pipelines (and fixed parameters).
+
+        Args:
+            start: None for the model's defaults, a full parameter vector,
+                or ``{name: value}`` applied on top of the defaults.
+
+        Raises:
+            BrdffitError: ``E_RANGE`` for a value outside the model's bounds.
+        """
+        h = self._handle
+        if start is None:
+            self._check(lib.brdffit_fit_set_start(h, None))
+            return
+        if isinstance(start, dict):
+            vec = self._layout.pack(start)
+        else:
+            vec = np.ascontiguousarray(start, dtype=np.float64).reshape(-1)
+        if vec.size != self.param_count:
+            raise ValueError("start has %d entries, expected %d" % (vec.size, self.param_count))
+        self._check(lib.brdffit_fit_set_start(h, dptr(vec)))
+
+    def set_fixed(self, params, fixed=True):
+        """Hold parameters fixed at their start value, or free them.
+
+        Args:
+            params: a parameter name or index, an iterable of them, or a
+                dict ``{name: bool}`` (then ``fixed`` is ignored).
+            fixed: True to hold, False to free.
+        """
+        if isinstance(params, dict):
+            items = params.items()
+        elif isinstance(params, (str, int)):
+            items = [(params, fixed)]
+        else:
+            items = [(p, fixed) for p in params]
+        for p, f in items:
+            k = self._layout.find(p) if isinstance(p, str) else int(p)
+            self._check(lib.brdffit_fit_set_fixed(self._handle, k, 1 if f else 0))
+
+    def set_callback(self, fn):
+        """Call ``fn(info)`` after every LM iteration (None removes it).
+
+        ``info`` is an :class:`IterationInfo`. Returning a true value stops
+        the fit (stop reason ``"callback"``). An exception raised by ``fn``
+        also stops the fit and is re-raised by :meth:`run`.
+        """
+        if fn is None:
+            self._check(lib.brdffit_fit_set_callback(self._handle, _lib.ITERATION_FN(), None))
+            self._callback = None
+            return
+
+        def trampoline(info_p, user):
+            try:
+                i = info_p.contents
+                x = np.ctypeslib.as_array(i.x, (i.n_params,)).copy() if i.n_params else \
+                    np.empty(0)
+                return 1 if fn(IterationInfo(i.iteration, bool(i.accepted), i.cost,
+                                             i.lambda_, i.rho, x)) else 0
+            except BaseException as exc:
+                if self._callback_error is None:
+                    self._callback_error = exc
+                return 1
+
+        c_fn = _lib.ITERATION_FN(trampoline)
+        self._check(lib.brdffit_fit_set_callback(self._handle, c_fn, None))
+        self._callback = c_fn
+
+    def cancel(self):
+        """Ask a running fit to stop (from any thread); stop reason ``"cancelled"``."""
+        lib.brdffit_fit_cancel(self._handle)
+
+    # ---- running ------------------------------------------------------------
+
+    def run(self):
+        """Run the fit with the current options; returns ``self``.
+
+        Raises:
+            BrdffitError: e.g. ``E_NO_DATA`` when no sample lies inside the
+                cap, ``E_MODEL_FAILED`` when the model fails (its Python
+                exception, for a Python model, is the ``__cause__``).
+        """
+        h = self._handle
+        self._callback_error = None
+        pe = self._model._python_eval
+        if pe is not None:
+            pe.error = None
+        status = lib.brdffit_fit_run(h)
+        msg = lib.brdffit_fit_message(h).decode("utf-8", "replace")
+        cb_error, self._callback_error = self._callback_error, None
+        self._model.raise_callback_error(status, msg)
+        if cb_error is not None:
+            raise cb_error
+        check(status, message=msg)
+        return self
+
+    # ---- results ------------------------------------------------------------
+
+    @property
+    def param_count(self):
+        """Length of the parameter vector."""
+        return lib.brdffit_fit_param_count(self._handle)
+
+    def _vector(self, fn):
+        out = np.empty(self.param_count)
+        self._check(fn(self._handle, dptr(out)))
+        return out
+
+    @property
+    def params(self):
+        """The fitted parameter vector (``E_NOT_READY`` before a successful run)."""
+        return self._vector(lib.brdffit_fit_params)
+
+    def params_by_name(self):
+        """The fitted parameters as ``{name: float or per-channel array}``."""
+        return self._layout.unpack(self.params)
+
+    @property
+    def std_errors(self):
+        """Standard errors of the fitted parameters (0 for fixed or bound ones)."""
+        return self._vector(lib.brdffit_fit_std_errors)
+
+    def std_errors_by_name(self):
+        """The standard errors as ``{name: float or per-channel array}``."""
+        return self._layout.unpack(self.std_errors)
+
+    def error(self, metric="rms", channel=None):
+        """An error figure of the fitted parameters.
+
+        Args:
+            metric: ``"rms"`` (eq. 4.1, unweighted), ``"ngan"`` (eq. 3.5) or
+                ``"cost"`` (the weighted cost the fit minimises).
+            channel: a channel index, or None for all channels together.
+        """
+        m = _lookup(METRICS, metric, "metric")
+        ch = ALL_CHANNELS if channel is None else int(channel)
+        if ch < 0:
+            raise ValueError("channel must be >= 0")
+        v = ctypes.c_double()
+        self._check(lib.brdffit_fit_error(self._handle, m, ch, ctypes.byref(v)))
+        return v.value
+
+    def shader(self):
+        """The renderer form ``(Rs, cd, cs)`` (SPEC section 6).
+
+        Raises:
+            BrdffitError: ``E_UNSUPPORTED`` for a model without ``cd`` and
+                ``cs``; ``E_RANGE`` when max(cs) >= 1.
+        """
+        nc = self.n_channels
+        rs = ctypes.c_double()
+        cd, cs = np.empty(nc), np.empty(nc)
+        status = lib.brdffit_fit_shader(self._handle, ctypes.byref(rs), dptr(cd), dptr(cs))
+        if status == Status.E_UNSUPPORTED:
+            check(status, message="model %s has no parameters cd and cs" % self._model_name)
+        if status == Status.E_RANGE:
+            check(status, message="max(cs) >= 1: no shader form exists")
+        self._check(status)
+        return rs.value, cd, cs
+
+    @property
+    def stop_reason(self):
+        """Why the final LM run ended: one of :data:`STOP_REASONS`."""
+        r = lib.brdffit_fit_stop_reason(self._handle)
+        return STOP_REASONS[r] if 0 <= r < len(STOP_REASONS) else "unknown"
+
+    @property
+    def stop_reason_text(self):
+        """The library's description of :attr:`stop_reason`."""
+        return lib.brdffit_stop_reason_string(lib.brdffit_fit_stop_reason(self._handle)).decode()
+
+    @property
+    def iterations(self):
+        """Iterations of the final LM run."""
+        return lib.brdffit_fit_iterations(self._handle)
+
+    @property
+    def passes(self):
+        """Passes over the samples the last run made."""
+        return lib.brdffit_fit_passes(self._handle)
+
+    def history(self):
+        """``(cost, lambda)``: arrays of the start value and the value after
+        every iteration of the final LM run (empty before a run)."""
+        h = self._handle
+        n = lib.brdffit_fit_history(h, None, None)
+        cost, lam = np.empty(n), np.empty(n)
+        if n:
+            lib.brdffit_fit_history(h, dptr(cost), dptr(lam))
+        return cost, lam
+
+    def __repr__(self):
+        if self._closed:
+            return "<brdffit.Fit (closed)>"
+        return "<brdffit.Fit %s on %r>" % (self._model_name, self._grid)
