@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "models/kernel.h"
 
 #define LINEAR_FLAGS (BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR)
@@ -29,7 +30,7 @@ static void as_lobe(const brdffit_batch *batch, size_t first, size_t count, doub
     const double *restrict lnh = batch->log_nh + first;
     size_t i;
     for (i = 0; i < count; i++) {
-        const double p = exp(ns * lnh[i]) * inv_den[i];
+        const double p = bf_exp(ns * lnh[i]) * inv_den[i];
         lobe[i] = (ns + 1.0) * p;
         dlobe[i] = (1.0 + (ns + 1.0) * lnh[i]) * p;
     }
@@ -46,7 +47,7 @@ static void fill_diffuse(double *restrict out, size_t count)
 static void as_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                      bf_basis *out)
 {
-    double inv_den[BF_KERNEL_BLOCK];
+    double inv_den[BF_KERNEL_BLOCK] = {0.0};
     fill_diffuse(out->b[0], count);
     as_geometry(batch, first, count, inv_den);
     as_lobe(batch, first, count, shape[0], inv_den, out->b[1], out->db[0][1]);
@@ -89,7 +90,7 @@ static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, co
     double *restrict bd = out->b[0], *restrict dbd = out->db[1][0];
     double *restrict bs = out->b[1], *restrict dbs_ns = out->db[0][1];
     double *restrict dbs_rs = out->db[1][1];
-    double inv_den[BF_KERNEL_BLOCK];
+    double inv_den[BF_KERNEL_BLOCK] = {0.0};
     size_t i;
     as_geometry(batch, first, count, inv_den);
     as_lobe(batch, first, count, shape[0], inv_den, bs, dbs_ns);
@@ -130,7 +131,7 @@ const bf_builtin bf_builtin_ashikhmin_shirley_fresnel = {"ashikhmin-shirley-fres
 static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                       bf_basis *out)
 {
-    double inv_den[BF_KERNEL_BLOCK];
+    double inv_den[BF_KERNEL_BLOCK] = {0.0};
     fill_diffuse(out->b[0], count);
     as_geometry(batch, first, count, inv_den);
     as_lobe(batch, first, count, shape[0], inv_den, out->b[1], out->db[0][1]);

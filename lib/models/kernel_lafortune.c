@@ -9,6 +9,7 @@
 #include <math.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "models/kernel.h"
 
 #define LINEAR_FLAGS (BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR)
@@ -34,7 +35,7 @@ static void lafortune_basis(const brdffit_batch *batch, size_t first, size_t cou
         const double base = cz * zz - (lx[i] * vx[i] + ly[i] * vy[i]);
         const double bb = bf_max(base, BASE_FLOOR);
         const double lb = log(bb);
-        const double p = base > 0.0 ? exp(n * lb) : 0.0;
+        const double p = base > 0.0 ? bf_exp(n * lb) : 0.0;
         bd[i] = 1.0 / BF_PI;
         bs[i] = p;
         dn[i] = p * lb;

@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "models/kernel.h"
 
 #define LINEAR_FLAGS (BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR)
@@ -56,7 +57,7 @@ static void phong_basis(const brdffit_batch *batch, size_t first, size_t count, 
     fill_diffuse(out->b[0], count);
     for (i = 0; i < count; i++) {
         const double lr = log(bf_min(bf_max(rv[i], DBL_MIN), 1.0));
-        const double p = rv[i] > 0.0 ? exp(ns * lr) : 0.0;
+        const double p = rv[i] > 0.0 ? bf_exp(ns * lr) : 0.0;
         bs[i] = k * p;
         dbs[i] = (dk + k * lr) * p;
     }
@@ -91,7 +92,7 @@ static void blinn_basis(const brdffit_batch *batch, size_t first, size_t count, 
     size_t i;
     fill_diffuse(out->b[0], count);
     for (i = 0; i < count; i++) {
-        const double p = exp(ns * lnh[i]);
+        const double p = bf_exp(ns * lnh[i]);
         bs[i] = k * p;
         dbs[i] = (dk + k * lnh[i]) * p;
     }

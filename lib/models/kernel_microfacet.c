@@ -11,6 +11,7 @@
 #include <math.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "models/kernel.h"
 
 #define LINEAR_FLAGS (BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR)
@@ -78,7 +79,7 @@ static void ct_lobe(const mf_geometry *g, size_t count, double m, double f0, lob
     size_t i;
     for (i = 0; i < count; i++) {
         const double x = t[i] * inv_m2;
-        const double dgs = exp(-x) * inv_m2 * w[i];
+        const double dgs = bf_exp(-x) * inv_m2 * w[i];
         const double b = dgs * (f0 + (1.0 - f0) * f5[i]);
         o.b[i] = b;
         o.d_rough[i] = b * two_over_m * (x - 1.0);

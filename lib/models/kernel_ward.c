@@ -3,6 +3,7 @@
 #include <math.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "models/kernel.h"
 
 #define LINEAR_FLAGS (BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR)
@@ -28,7 +29,7 @@ static void ward_basis_common(const brdffit_batch *batch, size_t first, size_t c
     for (i = 0; i < count; i++) {
         const double c = nh[i];
         const double x = (1.0 - c) * (1.0 + c) / (c * c) * inv_a2;
-        const double b = exp(-x) * inv_n[i];
+        const double b = bf_exp(-x) * inv_n[i];
         bd[i] = 1.0 / BF_PI;
         bs[i] = b;
         dbs[i] = b * two_over_a * (x - 1.0);
