@@ -62,6 +62,17 @@ void bf_format(char *buf, size_t size, const char *fmt, ...)
         if (bf_st_ != BRDFFIT_OK) return bf_st_; \
     } while (0)
 
+/* Hot sample loops (with everything they call inlined) are compiled twice
+ * on x86-64, for the baseline (SSE2) and for AVX2,
+ * and the better one is picked when the library is loaded. The AVX2 clone
+ * does not use FMA, so both give bit-identical results. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__) && \
+    !defined(BRDFFIT_NO_CLONES)
+#define BF_VECTOR_CLONES __attribute__((flatten, target_clones("avx2", "default")))
+#else
+#define BF_VECTOR_CLONES
+#endif
+
 #define BF_PI 3.14159265358979323846
 #define BF_HALF_PI 1.57079632679489661923
 /* Floor of every clamped dot product (SPEC section 2). */
