@@ -1,5 +1,6 @@
 /* The fused inner loop of every fit: see pass.h. */
 #include "fit/pass.h"
+#include "fit/pass_internal.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -7,15 +8,6 @@
 
 #include "core/core.h"
 #include "models/model_internal.h"
-
-/* Per-thread scratch, carved out of one allocation. */
-typedef struct scratch {
-    double *w, *wsa, *ww, *d;  /* BF_CHUNK each */
-    double *meas, *pres;       /* nc * BF_CHUNK: measured value, 1 if present else 0 */
-    double *vals;              /* nc * BF_CHUNK */
-    double *jac;               /* n_decl * nc * BF_CHUNK, or NULL */
-    double *acc;
-} scratch;
 
 typedef struct worker {
     const bf_problem *pb;
@@ -46,17 +38,23 @@ size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind)
 
 static size_t max_acc_size(const bf_problem *pb)
 {
-    size_t n = bf_pass_acc_size(pb, BF_PASS_NORMAL), v = bf_pass_acc_size(pb, BF_PASS_VARPRO);
-    size_t m = bf_pass_acc_size(pb, BF_PASS_METRICS);
-    if (v > n) n = v;
-    return m > n ? m : n;
+    static const bf_pass_kind kinds[] = {BF_PASS_COST, BF_PASS_NORMAL, BF_PASS_VARPRO,
+                                         BF_PASS_METRICS};
+    size_t n = 0, i;
+    for (i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        size_t a = bf_pass_acc_size(pb, kinds[i]);
+        if (a > n) n = a;
+        if (bf_basis_usable(pb) && (a = bf_basis_acc_size(pb, kinds[i])) > n) n = a;
+    }
+    return n;
 }
 
 /* Doubles of scratch one thread needs (accumulator included). */
 static size_t scratch_size(const bf_problem *pb)
 {
     return 4 * BF_CHUNK + 3 * pb->nc * BF_CHUNK + max_acc_size(pb) +
-           pb->model->n_params * pb->nc * BF_CHUNK;
+           pb->model->n_params * pb->nc * BF_CHUNK +
+           (bf_basis_usable(pb) ? bf_basis_scratch_size(pb) : 0);
 }
 
 static size_t thread_count(const bf_problem *pb)
@@ -86,6 +84,8 @@ static void scratch_carve(scratch *sc, double *p, const bf_problem *pb, bf_pass_
     p = sc->vals + cb;
     sc->jac = wants_jacobian(kind) ? p : NULL;
     p += pb->model->n_params * cb;
+    sc->basis = p;
+    if (bf_basis_usable(pb)) p += bf_basis_scratch_size(pb);
     sc->acc = p;
     memset(sc->acc, 0, n_acc * sizeof *sc->acc);
 }
@@ -130,7 +130,7 @@ static void load_mean(const brdffit_grid *g, size_t first, size_t n, double *mea
 }
 
 /* Fill meas[m][s] and pres[m][s] for samples [first, first + n). */
-static void load_measured(const bf_problem *pb, size_t first, size_t n, scratch *sc)
+void bf_pass_load_measured(const bf_problem *pb, size_t first, size_t n, scratch *sc)
 {
     const brdffit_grid *g = pb->grid;
     size_t m, s;
@@ -150,7 +150,7 @@ static void load_measured(const bf_problem *pb, size_t first, size_t n, scratch 
 /* Sum of a[s] * b[s] with four independent partial sums, so the compiler
  * can keep the loop in vector registers without reassociating anything:
  * the result is the same on every machine. */
-static double dot(const double *restrict a, const double *restrict b, size_t n)
+BF_VECTOR_CLONES double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n)
 {
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     size_t s = 0;
@@ -196,16 +196,16 @@ static void accumulate_normal(const bf_problem *pb, scratch *sc, size_t n)
     for (m = 0; m < nc; m++) {
         row_weights(sc, m, n, sc->ww);
         weighted_residuals(sc, m, n, sc->d);
-        sc->acc[0] += dot(sc->d, sc->d, n);
+        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
         for (k = 0; k < np; k++) scale_rows(sc->jac + (k * nc + m) * n, sc->ww, n);
         for (k = 0; k < np; k++) {
             const double *jk = sc->jac + (k * nc + m) * n;
             size_t a = pb->vindex[k * nc + m];
-            jtr[a] += dot(jk, sc->d, n);
+            jtr[a] += bf_pass_dot(jk, sc->d, n);
             for (l = k; l < np; l++) {
                 size_t b = pb->vindex[l * nc + m];
                 size_t lo = a < b ? a : b, hi = a < b ? b : a;
-                jtj[lo * nv + hi] += dot(jk, sc->jac + (l * nc + m) * n, n);
+                jtj[lo * nv + hi] += bf_pass_dot(jk, sc->jac + (l * nc + m) * n, n);
             }
         }
     }
@@ -222,12 +222,12 @@ static void accumulate_varpro(const bf_problem *pb, scratch *sc, size_t n)
         row_weights(sc, m, n, sc->ww);
         memcpy(rm, sc->meas + m * n, n * sizeof *rm);
         scale_rows(rm, sc->ww, n);
-        acc[0] += dot(rm, rm, n);
+        acc[0] += bf_pass_dot(rm, rm, n);
         for (q = 0; q < K; q++) scale_rows(sc->jac + (pb->linear[q] * nc + m) * n, sc->ww, n);
         for (q = 0; q < K; q++) {
             const double *bq = sc->jac + (pb->linear[q] * nc + m) * n;
-            b[q] += dot(bq, rm, n);
-            for (r = q; r < K; r++) G[q * K + r] += dot(bq, sc->jac + (pb->linear[r] * nc + m) * n, n);
+            b[q] += bf_pass_dot(bq, rm, n);
+            for (r = q; r < K; r++) G[q * K + r] += bf_pass_dot(bq, sc->jac + (pb->linear[r] * nc + m) * n, n);
         }
     }
 }
@@ -238,7 +238,7 @@ static void accumulate_cost(const bf_problem *pb, scratch *sc, size_t n)
     for (m = 0; m < pb->nc; m++) {
         row_weights(sc, m, n, sc->ww);
         weighted_residuals(sc, m, n, sc->d);
-        sc->acc[0] += dot(sc->d, sc->d, n);
+        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
     }
 }
 
@@ -259,6 +259,12 @@ static void accumulate_metrics(const bf_problem *pb, scratch *sc, size_t first, 
     }
 }
 
+/* Whether this pass takes the basis route (built-in model, no missing values). */
+static int basis_pass(const bf_problem *pb, bf_pass_kind kind)
+{
+    return kind != BF_PASS_METRICS && bf_basis_usable(pb);
+}
+
 static brdffit_status run_chunk(worker *wk, size_t ci)
 {
     const bf_problem *pb = wk->pb;
@@ -267,8 +273,12 @@ static brdffit_status run_chunk(worker *wk, size_t ci)
     brdffit_batch batch;
     bf_weight_plan_chunk(pb->plan, ci, &first, &n, sc->w);
     if (wk->kind == BF_PASS_METRICS) bf_weight_plan_chunk(pb->plan_sa, ci, &first, &n, sc->wsa);
-    load_measured(pb, first, n, sc);
+    bf_pass_load_measured(pb, first, n, sc);
     bf_geometry_batch(&pb->grid->geo, first, n, &batch);
+    if (basis_pass(pb, wk->kind)) {
+        bf_basis_chunk(pb, wk->kind, wk->params, sc, &batch, sc->basis);
+        return BRDFFIT_OK;
+    }
     BF_RETURN_IF_ERROR(bf_model_eval(pb->model, &batch, wk->params, pb->nc, sc->vals, sc->jac,
                                      &wk->err));
     switch (wk->kind) {
@@ -343,7 +353,8 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
     worker wk[BF_MAX_THREADS];
     size_t threads = thread_count(pb), per = scratch_size(pb), t, i;
     size_t n_acc = bf_pass_acc_size(pb, kind), n_chunks = pb->plan->n_chunks;
-    brdffit_status st = BRDFFIT_OK;
+    int basis = basis_pass(pb, kind);
+    size_t n_part = basis ? bf_basis_acc_size(pb, kind) : n_acc;
     for (t = 0; t < threads; t++) {
         wk[t].pb = pb;
         wk[t].kind = kind;
@@ -351,19 +362,19 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
         wk[t].chunk_begin = n_chunks * t / threads;
         wk[t].chunk_end = n_chunks * (t + 1) / threads;
         wk[t].err.message[0] = '\0';
-        scratch_carve(&wk[t].sc, pb->work + t * per, pb, kind, n_acc);
+        scratch_carve(&wk[t].sc, pb->work + t * per, pb, kind, n_part);
     }
     run_workers(wk, threads);
-    memset(acc, 0, n_acc * sizeof *acc);
-    for (t = 0; t < threads && st == BRDFFIT_OK; t++) {
-        if (wk[t].status != BRDFFIT_OK) {
-            st = wk[t].status;
-            if (err != NULL) *err = wk[t].err;
-            break;
-        }
-        for (i = 0; i < n_acc; i++) acc[i] += wk[t].sc.acc[i];
+    for (t = 0; t < threads; t++) {
+        if (wk[t].status == BRDFFIT_OK) continue;
+        if (err != NULL) *err = wk[t].err;
+        return wk[t].status;
     }
-    if (st != BRDFFIT_OK) return st;
+    /* partial sums in block order, into the first block's accumulator */
+    for (t = 1; t < threads; t++)
+        for (i = 0; i < n_part; i++) wk[0].sc.acc[i] += wk[t].sc.acc[i];
+    if (basis) bf_basis_finish(pb, kind, params, wk[0].sc.acc, acc);
+    else memcpy(acc, wk[0].sc.acc, n_acc * sizeof *acc);
     mirror(pb, kind, acc);
     if (!all_finite(acc, n_acc))
         return bf_fail(err, BRDFFIT_E_NONFINITE,

@@ -55,6 +55,7 @@ typedef struct bf_builtin {
     size_t n_params;
     const brdffit_param_info *params;
     brdffit_model_eval_fn eval;
+    const bf_kernel *kernel; /* the basis form, for the fit's fused passes */
 } bf_builtin;
 
 /* Branch-free min and max for finite arguments (compile to minsd/maxsd and

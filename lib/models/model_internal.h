@@ -15,6 +15,10 @@ struct brdffit_model {
     brdffit_model_eval_fn eval;
     void *user;
     void (*destroy)(void *user);
+    /* Built-in models: their basis form (models/kernel.h), which lets fits
+     * accumulate the normal equations from channel-independent sums. NULL
+     * for user models. */
+    const struct bf_kernel *kernel;
 };
 
 /* Validate a model handle (non-NULL, magic). */

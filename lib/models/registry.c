@@ -55,5 +55,7 @@ brdffit_status brdffit_model_create(brdffit_model **out, const char *name,
     def.n_params = b->n_params;
     def.params = b->params;
     def.eval = b->eval;
-    return brdffit_model_create_custom(out, &def, alloc, err);
+    BF_RETURN_IF_ERROR(brdffit_model_create_custom(out, &def, alloc, err));
+    (*out)->kernel = b->kernel;
+    return BRDFFIT_OK;
 }

@@ -1,0 +1,244 @@
+/* The fused pass of built-in models, from their basis form.
+ *
+ * A built-in model is value_c = sum_m p_{m,c} B_m(theta) (models/kernel.h),
+ * so every Jacobian entry of channel c's row is one of the functions
+ *
+ *     E = { B_m } and { dB_m / dtheta_s : B_m depends on theta_s },
+ *
+ * possibly times a colour p_{m,c}. With one row weight w per sample for
+ * every channel (no missing values), J^T J is a small combination of the
+ * channel-independent sums G_ab = sum w^2 E_a E_b, and J^T r of
+ * H_ca = sum w^2 E_a d_c, d_c = value_c - measured_c. So a pass computes
+ * each basis function once per sample, NE (NE + 1) / 2 + nc (NE + 1) dot
+ * products per block, and never expands the Jacobian per channel. The cost
+ * and J^T r are still sums of directly computed residuals: nothing cancels
+ * near an exact fit. */
+#include <string.h>
+
+#include "core/core.h"
+#include "fit/pass_internal.h"
+#include "models/model_internal.h"
+
+/* The extended basis of a kernel: E_a for a < L is B_a; the others are the
+ * derivatives, in (shape, linear) order. ext[s][m] is the index of
+ * dB_m/dtheta_s, or -1 when B_m does not depend on theta_s. */
+typedef struct ebasis {
+    size_t L, K, NE;
+    int ext[BF_KERNEL_MAX_SHAPE][BF_KERNEL_MAX_LINEAR];
+} ebasis;
+
+static void ebasis_of(const bf_kernel *k, ebasis *eb)
+{
+    size_t s, m, next = k->n_linear;
+    eb->L = k->n_linear;
+    eb->K = k->n_shape;
+    for (s = 0; s < BF_KERNEL_MAX_SHAPE; s++)
+        for (m = 0; m < BF_KERNEL_MAX_LINEAR; m++)
+            eb->ext[s][m] = (s < eb->K && m < eb->L && (k->dep[s] & (1u << m))) ? (int)next++ : -1;
+    eb->NE = next;
+}
+
+int bf_basis_usable(const bf_problem *pb)
+{
+    const bf_kernel *k = pb->model->kernel;
+    return k != NULL && pb->grid->missing == NULL && pb->model->n_params == k->n_shape + k->n_linear;
+}
+
+size_t bf_basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
+{
+    ebasis eb;
+    ebasis_of(pb->model->kernel, &eb);
+    switch (kind) {
+    case BF_PASS_COST: return 1;
+    case BF_PASS_NORMAL: return 1 + eb.NE * eb.NE + pb->nc * eb.NE;
+    case BF_PASS_VARPRO: return eb.L * eb.L + pb->nc * (eb.L + 1);
+    case BF_PASS_METRICS: break;
+    }
+    return 0;
+}
+
+size_t bf_basis_scratch_size(const bf_problem *pb)
+{
+    /* the basis block, then the weighted functions u_a = w E_a */
+    return sizeof(bf_basis) / sizeof(double) + (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE)) *
+                                                    BF_KERNEL_BLOCK + 2 * BF_KERNEL_BLOCK +
+           0 * pb->nc;
+}
+
+/* Colour p_{m,c} of the parameter vector. */
+static double colour(const bf_problem *pb, const double *params, size_t K, size_t m, size_t c)
+{
+    return params[pb->vindex[(K + m) * pb->nc + c]];
+}
+
+/* d~ = w (value - measured) of channel c over a block. */
+static void residuals(const bf_problem *pb, const double *params, const ebasis *eb,
+                      const bf_basis *bs, const scratch *sc, size_t n, size_t off, size_t count,
+                      size_t c, double *restrict dw)
+{
+    const double *restrict meas = sc->meas + c * n + off, *restrict w = sc->w + off;
+    size_t m, i;
+    for (i = 0; i < count; i++) dw[i] = -meas[i];
+    for (m = 0; m < eb->L; m++) {
+        const double p = colour(pb, params, eb->K, m, c);
+        const double *restrict b = bs->b[m];
+        for (i = 0; i < count; i++) dw[i] += p * b[i];
+    }
+    for (i = 0; i < count; i++) dw[i] *= w[i];
+}
+
+/* u_a = w E_a for every function of the extended basis. */
+static void weighted_basis(const ebasis *eb, const bf_basis *bs, const double *restrict w,
+                           size_t count, double *u)
+{
+    size_t s, m, i;
+    for (m = 0; m < eb->L; m++)
+        for (i = 0; i < count; i++) u[m * BF_KERNEL_BLOCK + i] = w[i] * bs->b[m][i];
+    for (s = 0; s < eb->K; s++)
+        for (m = 0; m < eb->L; m++) {
+            double *restrict ua;
+            if (eb->ext[s][m] < 0) continue;
+            ua = u + (size_t)eb->ext[s][m] * BF_KERNEL_BLOCK;
+            for (i = 0; i < count; i++) ua[i] = w[i] * bs->db[s][m][i];
+        }
+}
+
+static void block_normal(const bf_problem *pb, const double *params, const ebasis *eb,
+                         const bf_basis *bs, const scratch *sc, size_t n, size_t off,
+                         size_t count, double *u, double *dw)
+{
+    double *acc = sc->acc, *G = acc + 1, *H = acc + 1 + eb->NE * eb->NE;
+    size_t a, b, c;
+    weighted_basis(eb, bs, sc->w + off, count, u);
+    for (a = 0; a < eb->NE; a++)
+        for (b = a; b < eb->NE; b++)
+            G[a * eb->NE + b] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+    for (c = 0; c < pb->nc; c++) {
+        residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
+        acc[0] += bf_pass_dot(dw, dw, count);
+        for (a = 0; a < eb->NE; a++)
+            H[c * eb->NE + a] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, dw, count);
+    }
+}
+
+static void block_cost(const bf_problem *pb, const double *params, const ebasis *eb,
+                       const bf_basis *bs, const scratch *sc, size_t n, size_t off, size_t count,
+                       double *dw)
+{
+    size_t c;
+    for (c = 0; c < pb->nc; c++) {
+        residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
+        sc->acc[0] += bf_pass_dot(dw, dw, count);
+    }
+}
+
+static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis *bs,
+                         const scratch *sc, size_t n, size_t off, size_t count, double *u,
+                         double *rw)
+{
+    double *G = sc->acc, *bvec = sc->acc + eb->L * eb->L, *rr = bvec + pb->nc * eb->L;
+    const double *restrict w = sc->w + off;
+    size_t a, b, c, i;
+    weighted_basis(eb, bs, w, count, u);
+    for (a = 0; a < eb->L; a++)
+        for (b = a; b < eb->L; b++)
+            G[a * eb->L + b] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+    for (c = 0; c < pb->nc; c++) {
+        const double *restrict meas = sc->meas + c * n + off;
+        for (i = 0; i < count; i++) rw[i] = w[i] * meas[i];
+        rr[c] += bf_pass_dot(rw, rw, count);
+        for (a = 0; a < eb->L; a++)
+            bvec[c * eb->L + a] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, rw, count);
+    }
+}
+
+BF_VECTOR_CLONES void bf_basis_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params, scratch *sc,
+                    const brdffit_batch *batch, double *work)
+{
+    const bf_kernel *k = pb->model->kernel;
+    bf_basis *bs = (bf_basis *)(void *)work;
+    double *u = work + sizeof(bf_basis) / sizeof(double);
+    double *dw = u + BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) * BF_KERNEL_BLOCK;
+    size_t n = batch->n, off, count;
+    ebasis eb;
+    ebasis_of(k, &eb);
+    for (off = 0; off < n; off += count) {
+        count = n - off < BF_KERNEL_BLOCK ? n - off : BF_KERNEL_BLOCK;
+        k->basis(batch, off, count, params, bs);
+        if (kind == BF_PASS_NORMAL) block_normal(pb, params, &eb, bs, sc, n, off, count, u, dw);
+        else if (kind == BF_PASS_COST) block_cost(pb, params, &eb, bs, sc, n, off, count, dw);
+        else block_varpro(pb, &eb, bs, sc, n, off, count, u, dw);
+    }
+}
+
+static double sym(const double *G, size_t NE, size_t a, size_t b)
+{
+    return a <= b ? G[a * NE + b] : G[b * NE + a];
+}
+
+/* J^T J and J^T r in the vector layout from G and H (see the file comment). */
+static void finish_normal(const bf_problem *pb, const double *params, const ebasis *eb,
+                          const double *bacc, double *acc)
+{
+    const size_t nv = pb->n_vec, nc = pb->nc, K = eb->K, L = eb->L, NE = eb->NE;
+    const double *G = bacc + 1, *H = bacc + 1 + NE * NE;
+    double *jtr = acc + 1, *jtj = acc + 1 + nv;
+    size_t s, t, m, q, c;
+    memset(acc, 0, (1 + nv + nv * nv) * sizeof *acc);
+    acc[0] = bacc[0];
+    for (c = 0; c < nc; c++) {
+        for (m = 0; m < L; m++) {
+            size_t im = pb->vindex[(K + m) * nc + c];
+            jtr[im] = H[c * NE + m];
+            for (q = 0; q < L; q++) jtj[im * nv + pb->vindex[(K + q) * nc + c]] = sym(G, NE, m, q);
+        }
+        for (s = 0; s < K; s++) {
+            size_t is = pb->vindex[s * nc];
+            for (m = 0; m < L; m++) {
+                double pm;
+                if (eb->ext[s][m] < 0) continue;
+                pm = colour(pb, params, K, m, c);
+                jtr[is] += pm * H[c * NE + (size_t)eb->ext[s][m]];
+                for (q = 0; q < L; q++) {
+                    double v = pm * sym(G, NE, (size_t)eb->ext[s][m], q);
+                    size_t iq = pb->vindex[(K + q) * nc + c];
+                    jtj[is * nv + iq] += v;
+                    jtj[iq * nv + is] += v;
+                }
+                for (t = 0; t < K; t++)
+                    for (q = 0; q < L; q++) {
+                        if (eb->ext[t][q] < 0) continue;
+                        jtj[is * nv + pb->vindex[t * nc]] +=
+                            pm * colour(pb, params, K, q, c) *
+                            sym(G, NE, (size_t)eb->ext[s][m], (size_t)eb->ext[t][q]);
+                    }
+            }
+        }
+    }
+}
+
+/* Per-channel [R^T W R, b, G] of pass.h from the shared Gram matrix. */
+static void finish_varpro(const bf_problem *pb, const ebasis *eb, const double *bacc, double *acc)
+{
+    const size_t L = eb->L, stride = 1 + L + L * L;
+    const double *G = bacc, *bvec = bacc + L * L, *rr = bvec + pb->nc * L;
+    size_t c, a, b;
+    for (c = 0; c < pb->nc; c++) {
+        double *out = acc + c * stride;
+        out[0] = rr[c];
+        for (a = 0; a < L; a++) {
+            out[1 + a] = bvec[c * L + a];
+            for (b = 0; b < L; b++) out[1 + L + a * L + b] = sym(G, L, a, b);
+        }
+    }
+}
+
+void bf_basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                     const double *basis_acc, double *acc)
+{
+    ebasis eb;
+    ebasis_of(pb->model->kernel, &eb);
+    if (kind == BF_PASS_NORMAL) finish_normal(pb, params, &eb, basis_acc, acc);
+    else if (kind == BF_PASS_VARPRO) finish_varpro(pb, &eb, basis_acc, acc);
+    else acc[0] = basis_acc[0];
+}
