@@ -402,21 +402,24 @@ static void test_weight_plan_chunk_layout(void **state)
     brdffit_grid *g;
     bf_weight_plan plan;
     double chunk[BF_CHUNK];
-    size_t first, count;
+    size_t first, count, per_row = (1116 + BF_CHUNK - 1) / BF_CHUNK;
     (void)state;
     full_axes(&a);
     g = make_grid(&a, NULL);
-    /* cap 75: 16 theta_i rows of 31 x 36 = 1116 active samples = 5 chunks */
+    /* cap 75: 16 theta_i rows of 31 x 36 = 1116 active samples each, cut
+     * into chunks of at most BF_CHUNK samples */
     assert_int_equal(bf_weight_plan_init(&plan, g, DEG(75.0), 3, &g->alloc, NULL), BRDFFIT_OK);
     assert_int_equal(plan.n_ti_act, 16);
     assert_int_equal(plan.n_to_act, 31);
-    assert_int_equal(plan.chunks_per_ti, 5);
-    assert_int_equal(plan.n_chunks, 80);
+    assert_int_equal(plan.chunks_per_ti, per_row);
+    assert_int_equal(plan.n_chunks, 16 * per_row);
     assert_int_equal(plan.n_active, 16 * 1116);
-    bf_weight_plan_chunk(&plan, 4, &first, &count, chunk);
-    assert_int_equal(first, 4 * BF_CHUNK);
-    assert_int_equal(count, 1116 - 4 * BF_CHUNK);
-    bf_weight_plan_chunk(&plan, 5, &first, &count, chunk);
+    /* the last chunk of the first row holds the rest of that row */
+    bf_weight_plan_chunk(&plan, per_row - 1, &first, &count, chunk);
+    assert_int_equal(first, (per_row - 1) * BF_CHUNK);
+    assert_int_equal(count, 1116 - (per_row - 1) * BF_CHUNK);
+    /* the next starts the second row, past its inactive theta_o values */
+    bf_weight_plan_chunk(&plan, per_row, &first, &count, chunk);
     assert_int_equal(first, 37 * 36);
     assert_int_equal(count, BF_CHUNK);
     bf_weight_plan_free(&plan, &g->alloc);

@@ -49,12 +49,13 @@ static size_t max_acc_size(const bf_problem *pb)
     return n;
 }
 
-/* Doubles of scratch one thread needs (accumulator included). */
+/* Doubles of scratch one thread needs (accumulator included): the basis
+ * route needs its basis block, the generic one room for the Jacobian. */
 static size_t scratch_size(const bf_problem *pb)
 {
     return 4 * BF_CHUNK + 3 * pb->nc * BF_CHUNK + max_acc_size(pb) +
-           pb->model->n_params * pb->nc * BF_CHUNK +
-           (bf_basis_usable(pb) ? bf_basis_scratch_size(pb) : 0);
+           (bf_basis_usable(pb) ? bf_basis_scratch_size(pb)
+                                : pb->model->n_params * pb->nc * BF_CHUNK);
 }
 
 static size_t thread_count(const bf_problem *pb)
@@ -82,10 +83,15 @@ static void scratch_carve(scratch *sc, double *p, const bf_problem *pb, bf_pass_
     sc->pres = sc->meas + cb;
     sc->vals = sc->pres + cb;
     p = sc->vals + cb;
-    sc->jac = wants_jacobian(kind) ? p : NULL;
-    p += pb->model->n_params * cb;
-    sc->basis = p;
-    if (bf_basis_usable(pb)) p += bf_basis_scratch_size(pb);
+    sc->jac = NULL;
+    sc->basis = NULL;
+    if (bf_basis_usable(pb)) {
+        sc->basis = p;
+        p += bf_basis_scratch_size(pb);
+    } else {
+        if (wants_jacobian(kind)) sc->jac = p;
+        p += pb->model->n_params * cb;
+    }
     sc->acc = p;
     memset(sc->acc, 0, n_acc * sizeof *sc->acc);
 }

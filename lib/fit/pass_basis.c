@@ -59,10 +59,11 @@ size_t bf_basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
 
 size_t bf_basis_scratch_size(const bf_problem *pb)
 {
-    /* the basis block, then the weighted functions u_a = w E_a */
-    return sizeof(bf_basis) / sizeof(double) + (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE)) *
-                                                    BF_KERNEL_BLOCK + 2 * BF_KERNEL_BLOCK +
-           0 * pb->nc;
+    /* the basis block, the weighted functions u_a = w E_a (at most
+     * L (1 + K) of them) and one residual block */
+    (void)pb;
+    return sizeof(bf_basis) / sizeof(double) +
+           (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) + 1) * BF_KERNEL_BLOCK;
 }
 
 /* Colour p_{m,c} of the parameter vector. */

@@ -10,7 +10,7 @@
 #include "brdffit/model.h"
 
 /* Largest number of samples in one chunk handed to a model. */
-#define BF_CHUNK 256
+#define BF_CHUNK 64
 
 /* Derived per-sample geometry, structure of arrays (one allocation). The
  * fields mirror brdffit_batch. */
