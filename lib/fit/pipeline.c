@@ -288,12 +288,14 @@ static brdffit_status run_auto(bf_stage *st, double *params, double *se)
         status = find_candidates(st, dims, nd, best, &n_best);
     }
     if (status != BRDFFIT_OK) return status;
-    /* Refine and polish the best minimum and every other one whose scan
-     * cost is within a factor 2 of it (the profile cost comes from normal
-     * equations and can mislead by rounding when minima are close). */
+    /* Polish the best minimum and every other one whose scan cost is within
+     * a factor 2 of it (the profile cost comes from normal equations and
+     * can mislead by rounding when minima are close). Competing minima of
+     * one shape parameter are refined first; a single one needs no
+     * refinement: LM converges from anywhere in its basin. */
     n_polish = 1;
     while (n_polish < n_best && best[n_polish].cost <= 2.0 * best[0].cost) n_polish++;
-    for (i = 0; nd == 1 && i < n_polish && status == BRDFFIT_OK; i++)
+    for (i = 0; nd == 1 && n_polish > 1 && i < n_polish && status == BRDFFIT_OK; i++)
         status = refine_1d(st, &dims[0], &best[i]);
     if (status != BRDFFIT_OK) return status;
     if (st->run->cancelled) return cancelled_result(st, dims, nd, best, n_best, params, se);

@@ -168,13 +168,14 @@ static void chunk_scattered(const bf_weight_plan *p, size_t index, size_t *first
     int cosine = (p->flags & BRDFFIT_WEIGHT_COSINE) != 0;
     *first = start;
     *count = n;
-    for (t = 0; t < n; t++) {
-        size_t s = start + t;
-        double w = 1.0;
-        if (solid) w = (g->sample_weight != NULL ? g->sample_weight[s] : 1.0) * p->scale;
-        if (cosine) w *= fmax(g->geo.lz[s], 0.0);
-        weights[t] = w;
-    }
+    for (t = 0; t < n; t++)
+        weights[t] = solid ? (g->sample_weight != NULL ? g->sample_weight[start + t] : 1.0) * p->scale
+                           : 1.0;
+    if (cosine)
+        for (t = 0; t < n; t++) {
+            double c = g->geo.lz[start + t];
+            weights[t] *= c > 0.0 ? c : 0.0;
+        }
 }
 
 /* ---- the plan ---------------------------------------------------------------- */
