@@ -136,7 +136,7 @@ BRDFFIT_API brdffit_status brdffit_fit_set_damping(brdffit_fit *fit,
  *        them, except for parameters held fixed.
  * @param fit    The fit.
  * @param params brdffit_model_vector_size(model, n_channels of the grid) values.
- * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (also for NaN);
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (also for NaN or Inf);
  *         ::BRDFFIT_E_RANGE for a value outside the model's bounds.
  */
 BRDFFIT_API brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params);
@@ -175,6 +175,9 @@ BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
  *         cancel or the callback ended the last LM run early: see
  *         brdffit_fit_stop_reason()); ::BRDFFIT_E_NO_DATA when no sample
  *         lies inside the cap or every value there is missing;
+ *         ::BRDFFIT_E_RANGE when the largest measured value inside the cap
+ *         lies outside [1e-100, 1e100] (its square would under- or
+ *         overflow: rescale the data);
  *         ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE when the model or
  *         the data give NaN or Inf at the start; ::BRDFFIT_E_OUT_OF_MEMORY;
  *         ::BRDFFIT_E_BAD_HANDLE. brdffit_fit_message() says more.

@@ -129,7 +129,7 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
         return BRDFFIT_OK;
     case BRDFFIT_FIT_CAP:
         if (!(value >= 0.0 && value <= BF_HALF_PI + 1e-12)) break;
-        fit->cap = value;
+        fit->cap = value > BF_HALF_PI ? BF_HALF_PI : value;
         return BRDFFIT_OK;
     case BRDFFIT_FIT_WEIGHTING:
         if (!is_whole(value, 0, 3)) break;
@@ -195,9 +195,9 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
         const brdffit_param_info *info = &fit->model->params[k];
         for (c = 0; c < fit->nc; c++) {
             double v = params[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
-            if (isnan(v)) {
-                bf_format(fit->message, sizeof fit->message, "start value of %s is NaN",
-                          info->name);
+            if (!isfinite(v)) {
+                bf_format(fit->message, sizeof fit->message, "start value of %s is %g",
+                          info->name, v);
                 return BRDFFIT_E_INVALID_ARGUMENT;
             }
             if (v < info->lower || v > info->upper) {

@@ -124,6 +124,7 @@ static brdffit_status profile_at(bf_stage *st, const scan_dim *dims, size_t nd, 
 {
     if (atomic_load(&st->run->fit->cancel)) {
         st->run->cancelled = 1;
+        *cost = HUGE_VAL; /* not evaluated: never chosen */
         return BRDFFIT_OK;
     }
     set_point(st, dims, nd, u);
@@ -231,10 +232,11 @@ static brdffit_status find_candidates(bf_stage *st, scan_dim *dims, size_t nd, c
     for (d = 0; d < nd; d++) total *= dims[d].count;
     f = bf_calloc(&st->run->fit->alloc, total, sizeof *f);
     if (f == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    for (flat = 0; flat < total; flat++) f[flat] = HUGE_VAL; /* points a cancel leaves out */
     status = scan_grid(st, dims, nd, f, total);
     *n_best = 0;
     for (flat = 0; status == BRDFFIT_OK && flat < total; flat++) {
-        if (!is_local_min(f, dims, nd, flat)) continue;
+        if (!(f[flat] < HUGE_VAL) || !is_local_min(f, dims, nd, flat)) continue;
         flat_to_u(dims, nd, flat, u);
         keep_candidate(best, n_best, f[flat], u, nd);
     }
@@ -447,6 +449,36 @@ static brdffit_status make_plans(bf_run *run)
     return status;
 }
 
+/* The fit squares the measured values: keep them where their squares
+ * neither underflow nor overflow. */
+#define BF_FIT_VALUE_MIN 1e-100
+#define BF_FIT_VALUE_MAX 1e100
+
+/* Largest measured value inside the cap (missing values are stored as 0). */
+static double largest_value(const bf_run *run)
+{
+    const brdffit_grid *g = run->fit->grid;
+    double w[BF_CHUNK], top = 0.0;
+    size_t ci, first, n, c, s;
+    for (ci = 0; ci < run->plan.n_chunks; ci++) {
+        bf_weight_plan_chunk(&run->plan, ci, &first, &n, w);
+        for (c = 0; c < g->n_channels; c++)
+            for (s = first; s < first + n; s++) top = fmax(top, g->values[c * g->n_samples + s]);
+    }
+    return top;
+}
+
+static brdffit_status check_scale(bf_run *run)
+{
+    double top = largest_value(run);
+    if (top == 0.0 || (top >= BF_FIT_VALUE_MIN && top <= BF_FIT_VALUE_MAX)) return BRDFFIT_OK;
+    bf_format(run->fit->message, sizeof run->fit->message,
+              "the largest measured value inside the cap, %g, lies outside [%g, %g]; "
+              "rescale the data (the colours scale with it)",
+              top, BF_FIT_VALUE_MIN, BF_FIT_VALUE_MAX);
+    return BRDFFIT_E_RANGE;
+}
+
 brdffit_status bf_fit_execute(brdffit_fit *fit)
 {
     bf_run run;
@@ -454,6 +486,12 @@ brdffit_status bf_fit_execute(brdffit_fit *fit)
     memset(&run, 0, sizeof run);
     run.fit = fit;
     BF_RETURN_IF_ERROR(make_plans(&run));
+    status = check_scale(&run);
+    if (status != BRDFFIT_OK) {
+        bf_weight_plan_free(&run.plan, &fit->alloc);
+        bf_weight_plan_free(&run.plan_sa, &fit->alloc);
+        return status;
+    }
     switch (fit->pipeline) {
     case BRDFFIT_PIPELINE_JOINT: status = pipeline_joint(&run, fit->params, fit->std_errors); break;
     case BRDFFIT_PIPELINE_TWO_STAGE:

@@ -332,15 +332,18 @@ static brdffit_status load_regular(brdffit_grid **out, const unsigned char *data
 
 /* ---- entry points ------------------------------------------------------------------ */
 
-static brdffit_status check_args(brdffit_grid **out, const void *in, const brdffit_allocator *alloc,
-                                 brdffit_allocator *a, brdffit_error *err)
+/* Every argument, the axes included, before any byte of the data is read. */
+static brdffit_status check_args(brdffit_grid **out, const void *in, const brdffit_axes *axes,
+                                 const brdffit_allocator *alloc, brdffit_allocator *a,
+                                 brdffit_error *err)
 {
+    size_t n;
     if (out == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
     if (in == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "path or data is NULL");
     if (!bf_alloc_init(a, alloc))
         return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
-    return BRDFFIT_OK;
+    return axes != NULL ? check_axes(axes, &n, err) : BRDFFIT_OK;
 }
 
 static brdffit_status decode(brdffit_grid **out, const unsigned char *data, size_t size,
@@ -359,7 +362,7 @@ brdffit_status brdffit_load_merl_buffer(brdffit_grid **out, const void *data, si
                                         brdffit_error *err)
 {
     brdffit_allocator a;
-    BF_RETURN_IF_ERROR(check_args(out, data, alloc, &a, err));
+    BF_RETURN_IF_ERROR(check_args(out, data, axes, alloc, &a, err));
     return decode(out, data, size, axes, &a, err);
 }
 
@@ -394,7 +397,7 @@ brdffit_status brdffit_load_merl(brdffit_grid **out, const char *path, const brd
     brdffit_allocator a;
     unsigned char *data = NULL;
     brdffit_status st;
-    BF_RETURN_IF_ERROR(check_args(out, path, alloc, &a, err));
+    BF_RETURN_IF_ERROR(check_args(out, path, axes, alloc, &a, err));
     BF_RETURN_IF_ERROR(read_file(path, &a, &data, err));
     st = decode(out, data, MERL_SIZE, axes, &a, err);
     bf_free(&a, data);
