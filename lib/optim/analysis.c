@@ -41,14 +41,14 @@ double bf_optim_condition(const brdffit_optimizer *opt)
  * the parameters. A parameter the problem does not depend on (zero
  * diagonal) gets 0. s^2 = cost / (n_rows - |C|), or 1 when n_rows <= |C|
  * (no degrees of freedom left: the residuals are taken as already scaled
- * by their standard deviations). */
-void bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
+ * by their standard deviations). This leaves (S A S)^+ in w->m, S in
+ * w->scale, and returns |C| and s^2. */
+static size_t scaled_pinv(const brdffit_optimizer *opt, double *s2)
 {
     const bf_optim_work *w = &opt->w;
     size_t a, b, p = opt->n_params, n = gather_analysed(w, p);
     size_t rows = opt->res.n_rows;
-    double s2 = rows > n ? opt->res.final_cost / (double)(rows - n) : 1.0;
-    memset(cov, 0, p * p * sizeof *cov);
+    *s2 = rows > n ? opt->res.final_cost / (double)(rows - n) : 1.0;
     for (a = 0; a < n; a++) {
         double ajj = w->jtj[w->free_idx[a] * p + w->free_idx[a]];
         w->scale[a] = ajj > 0.0 ? 1.0 / sqrt(ajj) : 0.0;
@@ -59,9 +59,33 @@ void bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
     }
     bf_sym_eigen(w->m, n, w->w, w->v);
     bf_eigen_pinv(w->w, w->v, n, BF_LINALG_RTOL, w->m);
+    return n;
+}
+
+void bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t a, b, p = opt->n_params, n;
+    double s2;
+    memset(cov, 0, p * p * sizeof *cov);
+    n = scaled_pinv(opt, &s2);
     for (a = 0; a < n; a++) {
         double *crow = cov + w->free_idx[a] * p;
         for (b = 0; b < n; b++)
             crow[w->free_idx[b]] = s2 * w->scale[a] * w->m[a * n + b] * w->scale[b];
     }
+}
+
+/* The square roots of the covariance diagonal, taken factor by factor: a
+ * parameter the data barely determine (a tiny diagonal of A) has a
+ * variance beyond the double range but a standard error within it. */
+void bf_optim_std_errors(const brdffit_optimizer *opt, double *se)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t a, n;
+    double s2;
+    memset(se, 0, opt->n_params * sizeof *se);
+    n = scaled_pinv(opt, &s2);
+    for (a = 0; a < n; a++)
+        se[w->free_idx[a]] = sqrt(s2) * w->scale[a] * sqrt(fmax(w->m[a * n + a], 0.0));
 }

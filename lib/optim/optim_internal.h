@@ -135,5 +135,7 @@ double bf_optim_condition(const brdffit_optimizer *opt);
 
 /* analysis.c: covariance (p x p) at the returned point into cov. */
 void bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
+/* analysis.c: standard errors (p) at the returned point into se. */
+void bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
 
 #endif /* BRDFFIT_OPTIM_INTERNAL_H */

@@ -468,12 +468,9 @@ brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt, double
 
 brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt, double *se)
 {
-    size_t j, p;
     BF_RETURN_IF_ERROR(check_handle(opt));
     if (se == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
-    p = opt->n_params;
-    bf_optim_covariance(opt, opt->w.jtj_new);
-    for (j = 0; j < p; j++) se[j] = sqrt(fmax(opt->w.jtj_new[j * p + j], 0.0));
+    bf_optim_std_errors(opt, se);
     return BRDFFIT_OK;
 }

@@ -1,7 +1,7 @@
-/* Shared by the loader fuzz harnesses: a counting allocator that can fail
- * the Nth allocation, and checks of the invariants every loaded grid must
- * satisfy. A violated invariant aborts, which both libFuzzer and the
- * corpus driver report. */
+/* Shared by the fuzz harnesses: a counting allocator that can fail the Nth
+ * allocation, and checks of the invariants every grid must satisfy. A
+ * violated invariant aborts, which both libFuzzer and the corpus driver
+ * report. */
 #ifndef BRDFFIT_FUZZ_COMMON_H
 #define BRDFFIT_FUZZ_COMMON_H
 
