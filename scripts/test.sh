@@ -8,9 +8,20 @@
 # 2. build/        gcc, warnings as errors, all tests;
 # 3. build-asan/   gcc, Debug, AddressSanitizer + UndefinedBehaviorSanitizer,
 #                  all tests;
-# 4. build-clang/  clang, warnings as errors, all tests.
+# 4. build-clang/  clang, warnings as errors, all tests;
+# 5. build-fuzz/   clang libFuzzer harnesses (tests/fuzz) with AddressSanitizer
+#                  and UndefinedBehaviorSanitizer, each fuzzed for
+#                  BRDFFIT_FUZZ_SECONDS (default 60) from a scratch copy of its
+#                  stored corpus (tests/fuzz/run_fuzzers.sh);
+# 6. build-valgrind/ gcc, every test program once more under valgrind
+#                  memcheck (ctest label valgrind, tests/valgrind);
+# 7. build-tsan/   gcc, ThreadSanitizer, the programs that use threads
+#                  (ctest label tsan, tests/tsan).
+# The gcc stage also builds bench/ and runs each benchmark once in smoke mode
+# (nothing timed).
 # Every stage runs even if an earlier one failed; the last line sums up, and
-# the exit status is non-zero if anything failed.
+# the exit status is non-zero if anything failed. docs/hardening-tests.md
+# describes stages 5 and 6.
 set -uo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
@@ -25,6 +36,10 @@ packages=(
     g++              # the C++ compile check of the public headers
     clang
     libclang-rt-14-dev # sanitizer and fuzzer runtimes for clang
+    valgrind         # the memcheck stage
+    libtsan2         # ThreadSanitizer runtime for gcc
+    libgsl-dev       # reference solvers of the benchmarks (bench/)
+    libcminpack-dev
     libcmocka-dev
     pkg-config
     abigail-tools    # abidw/abidiff for the ABI check
@@ -33,7 +48,6 @@ packages=(
     python3          # the Python binding's tests (tests/python)
     python3-numpy
     python3-cffi
-    # later: libgsl-dev libcminpack-dev (reference solvers for the benchmarks)
 )
 
 jobs=2
@@ -51,14 +65,68 @@ run_stage()
     (cd "$dir" && ctest --output-on-failure -j"$jobs")
 }
 
+# fuzz_stage: the libFuzzer harnesses, when clang can link them.
+fuzz_stage()
+{
+    local probe
+    probe=$(mktemp -d) || return 1
+    printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n)\n{ (void)d; (void)n; return 0; }\n' \
+        > "$probe/probe.c"
+    if ! command -v clang > /dev/null ||
+        ! clang -fsanitize=fuzzer,address,undefined "$probe/probe.c" -o "$probe/probe" 2> /dev/null; then
+        rm -rf "$probe"
+        echo "fuzz: SKIPPED: clang with the libFuzzer runtime (libclang-rt-14-dev) is not available"
+        return 0
+    fi
+    rm -rf "$probe"
+    log "fuzz: configure (build-fuzz)"
+    CC=clang cmake -S . -B build-fuzz -DBRDFFIT_WERROR=ON -DCMAKE_C_COMPILER=clang \
+        -DBRDFFIT_FUZZ=ON -DBRDFFIT_BUILD_TOOLS=OFF -DBRDFFIT_BUILD_EXAMPLES=OFF || return 1
+    log "fuzz: build"
+    cmake --build build-fuzz -j"$jobs" --target fuzz || return 1
+    log "fuzz: run each harness for ${BRDFFIT_FUZZ_SECONDS:-60} s"
+    bash tests/fuzz/run_fuzzers.sh build-fuzz "${BRDFFIT_FUZZ_SECONDS:-60}"
+}
+
+# tsan_stage: the threaded test programs under ThreadSanitizer.
+tsan_stage()
+{
+    log "tsan: configure (build-tsan)"
+    CC=gcc CXX=g++ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRDFFIT_WERROR=ON \
+        -DBRDFFIT_SANITIZE=OFF -DCMAKE_C_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
+        -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread -DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=thread \
+        || return 1
+    log "tsan: build"
+    cmake --build build-tsan -j"$jobs" --target test_concurrency test_optim_threads || return 1
+    log "tsan: test"
+    (cd build-tsan && ctest -L tsan --output-on-failure -j"$jobs")
+}
+
+# valgrind_stage: every test program under memcheck.
+valgrind_stage()
+{
+    if ! command -v valgrind > /dev/null; then
+        echo "valgrind: SKIPPED: valgrind is not installed"
+        return 0
+    fi
+    log "valgrind: configure (build-valgrind)"
+    CC=gcc cmake -S . -B build-valgrind -DBRDFFIT_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DBRDFFIT_VALGRIND=ON -DBRDFFIT_BUILD_TOOLS=OFF || return 1
+    log "valgrind: build"
+    cmake --build build-valgrind -j"$jobs" || return 1
+    log "valgrind: every test program under memcheck"
+    (cd build-valgrind && ctest -L valgrind --output-on-failure -j"$jobs")
+}
+
 failed=()
+stages=(gcc asan clang fuzz valgrind tsan)
 
 if ! install_packages test.sh "${packages[@]}"; then
     echo "test.sh: FAILED: could not install the required packages"
     exit 1
 fi
 
-CC=gcc CXX=g++ run_stage gcc build -DBRDFFIT_WERROR=ON || failed+=(gcc)
+CC=gcc CXX=g++ run_stage gcc build -DBRDFFIT_WERROR=ON -DBRDFFIT_BUILD_BENCH=ON || failed+=(gcc)
 
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
     ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} \
@@ -68,10 +136,24 @@ UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
 CC=clang CXX=clang++ run_stage clang build-clang -DBRDFFIT_WERROR=ON -DCMAKE_C_COMPILER=clang \
     || failed+=(clang)
 
+stage_start=$SECONDS
+fuzz_stage || failed+=(fuzz)
+echo "fuzz: stage took $((SECONDS - stage_start)) s"
+
+stage_start=$SECONDS
+valgrind_stage || failed+=(valgrind)
+echo "valgrind: stage took $((SECONDS - stage_start)) s"
+
+stage_start=$SECONDS
+tsan_stage || failed+=(tsan)
+echo "tsan: stage took $((SECONDS - stage_start)) s"
+
 echo
+echo "stages: $((${#stages[@]} - ${#failed[@]})) passed, ${#failed[@]} failed"
 if [ ${#failed[@]} -eq 0 ]; then
-    echo "test.sh: PASSED: gcc, asan+ubsan and clang builds are warning-free and all tests pass"
+    echo "test.sh: PASSED: gcc, asan+ubsan and clang builds are warning-free and all tests pass;" \
+        "fuzzing, valgrind memcheck and ThreadSanitizer found nothing"
     exit 0
 fi
-echo "test.sh: FAILED stages: ${failed[*]} (of gcc, asan, clang)"
+echo "test.sh: FAILED stages: ${failed[*]} (of ${stages[*]})"
 exit 1
