@@ -156,7 +156,8 @@ void bf_pass_load_measured(const bf_problem *pb, size_t first, size_t n, scratch
 /* Sum of a[s] * b[s] with four independent partial sums, so the compiler
  * can keep the loop in vector registers without reassociating anything:
  * the result is the same on every machine. */
-BF_VECTOR_CLONES double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n)
+BF_VECTOR_CLONES
+double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n)
 {
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     size_t s = 0;
@@ -233,7 +234,8 @@ static void accumulate_varpro(const bf_problem *pb, scratch *sc, size_t n)
         for (q = 0; q < K; q++) {
             const double *bq = sc->jac + (pb->linear[q] * nc + m) * n;
             b[q] += bf_pass_dot(bq, rm, n);
-            for (r = q; r < K; r++) G[q * K + r] += bf_pass_dot(bq, sc->jac + (pb->linear[r] * nc + m) * n, n);
+            for (r = q; r < K; r++)
+                G[q * K + r] += bf_pass_dot(bq, sc->jac + (pb->linear[r] * nc + m) * n, n);
         }
     }
 }

@@ -41,7 +41,8 @@ static void ebasis_of(const bf_kernel *k, ebasis *eb)
 int bf_basis_usable(const bf_problem *pb)
 {
     const bf_kernel *k = pb->model->kernel;
-    return k != NULL && pb->grid->missing == NULL && pb->model->n_params == k->n_shape + k->n_linear;
+    return k != NULL && pb->grid->missing == NULL &&
+           pb->model->n_params == k->n_shape + k->n_linear;
 }
 
 size_t bf_basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
@@ -113,7 +114,8 @@ static void block_normal(const bf_problem *pb, const double *params, const ebasi
     weighted_basis(eb, bs, sc->w + off, count, u);
     for (a = 0; a < eb->NE; a++)
         for (b = a; b < eb->NE; b++)
-            G[a * eb->NE + b] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+            G[a * eb->NE + b] +=
+                bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
     for (c = 0; c < pb->nc; c++) {
         residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
         acc[0] += bf_pass_dot(dw, dw, count);
@@ -143,7 +145,8 @@ static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis 
     weighted_basis(eb, bs, w, count, u);
     for (a = 0; a < eb->L; a++)
         for (b = a; b < eb->L; b++)
-            G[a * eb->L + b] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+            G[a * eb->L + b] +=
+                bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
     for (c = 0; c < pb->nc; c++) {
         const double *restrict meas = sc->meas + c * n + off;
         for (i = 0; i < count; i++) rw[i] = w[i] * meas[i];
@@ -153,7 +156,8 @@ static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis 
     }
 }
 
-BF_VECTOR_CLONES void bf_basis_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params, scratch *sc,
+BF_VECTOR_CLONES
+void bf_basis_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params, scratch *sc,
                     const brdffit_batch *batch, double *work)
 {
     const bf_kernel *k = pb->model->kernel;

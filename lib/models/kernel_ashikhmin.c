@@ -44,7 +44,8 @@ static void fill_diffuse(double *restrict out, size_t count)
 
 /* --- simplified (4.28): cd/pi + cs lobe(ns) -------------------------------- */
 
-BF_VECTOR_CLONES static void as_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void as_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                      bf_basis *out)
 {
     double inv_den[BF_KERNEL_BLOCK] = {0.0};
@@ -68,7 +69,8 @@ static const brdffit_param_info as_params[] = {
     {"cs", LINEAR_FLAGS, 0.0, HUGE_VAL, 0.2},
 };
 
-const bf_builtin bf_builtin_ashikhmin_shirley = {"ashikhmin-shirley", 3, as_params, as_eval, &as_kernel};
+const bf_builtin bf_builtin_ashikhmin_shirley = {"ashikhmin-shirley", 3, as_params, as_eval,
+                                                 &as_kernel};
 
 /* --- with Fresnel, shader form --------------------------------------------- */
 
@@ -80,7 +82,8 @@ static double pow5(double x)
 
 /* Diffuse: 28/(23 pi) (1-Rs) (1-(1-n.l/2)^5) (1-(1-n.v/2)^5) cd.
  * Specular: lobe(ns) F(h.v) cs, F(x) = Rs + (1-Rs)(1-x)^5. */
-BF_VECTOR_CLONES static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                       bf_basis *out)
 {
     const double rs = shape[1], kd = 28.0 / (23.0 * BF_PI);
@@ -128,7 +131,8 @@ const bf_builtin bf_builtin_ashikhmin_shirley_fresnel = {"ashikhmin-shirley-fres
 
 /* --- two lobes: cd/pi + cs1 lobe(ns1) + cs2 lobe(ns2) ---------------------- */
 
-BF_VECTOR_CLONES static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                       bf_basis *out)
 {
     double inv_den[BF_KERNEL_BLOCK] = {0.0};
@@ -156,4 +160,5 @@ static const brdffit_param_info as2_params[] = {
     {"cs2", LINEAR_FLAGS, 0.0, HUGE_VAL, 0.2},
 };
 
-const bf_builtin bf_builtin_ashikhmin_shirley_2 = {"ashikhmin-shirley-2", 5, as2_params, as2_eval, &as2_kernel};
+const bf_builtin bf_builtin_ashikhmin_shirley_2 = {"ashikhmin-shirley-2", 5, as2_params, as2_eval,
+                                                   &as2_kernel};

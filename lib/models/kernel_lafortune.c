@@ -20,7 +20,8 @@
 
 /* P = base^n = exp(n ln base) where base > 0, else 0;
  * dP/dn = P ln base; dP/dcz = n P / base lz vz (0 where base <= floor). */
-BF_VECTOR_CLONES static void lafortune_basis(const brdffit_batch *batch, size_t first, size_t count,
+BF_VECTOR_CLONES
+static void lafortune_basis(const brdffit_batch *batch, size_t first, size_t count,
                             const double *shape, bf_basis *out)
 {
     const double n = shape[0], cz = shape[1];
@@ -61,4 +62,5 @@ static const brdffit_param_info lafortune_params[] = {
     {"cs", LINEAR_FLAGS, 0.0, HUGE_VAL, 1.0},
 };
 
-const bf_builtin bf_builtin_lafortune = {"lafortune", 4, lafortune_params, lafortune_eval, &lafortune_kernel};
+const bf_builtin bf_builtin_lafortune = {"lafortune", 4, lafortune_params, lafortune_eval,
+                                         &lafortune_kernel};

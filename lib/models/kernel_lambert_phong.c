@@ -17,7 +17,8 @@ static void fill_diffuse(double *restrict out, size_t count)
 
 /* --- Lambert: cd / pi ------------------------------------------------------ */
 
-BF_VECTOR_CLONES static void lambert_basis(const brdffit_batch *batch, size_t first, size_t count,
+BF_VECTOR_CLONES
+static void lambert_basis(const brdffit_batch *batch, size_t first, size_t count,
                           const double *shape, bf_basis *out)
 {
     (void)batch;
@@ -46,7 +47,8 @@ const bf_builtin bf_builtin_lambert = {"lambert", 1, lambert_params, lambert_eva
 /* max(0, r.v)^ns is exp(ns ln r.v) where r.v > 0 and exactly 0 elsewhere;
  * the logarithm is taken of max(r.v, DBL_MIN), so it stays finite and the
  * derivative P ln(r.v) is finite too (and 0 where P is 0). */
-BF_VECTOR_CLONES static void phong_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void phong_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                         bf_basis *out)
 {
     const double ns = shape[0];
@@ -82,7 +84,8 @@ const bf_builtin bf_builtin_phong = {"phong", 3, cosine_lobe_params, phong_eval,
 
 /* --- Blinn-Phong: cd/pi + (ns+8)/(8 pi) cs (n.h)^ns ----------------------- */
 
-BF_VECTOR_CLONES static void blinn_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void blinn_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                         bf_basis *out)
 {
     const double ns = shape[0];
@@ -107,4 +110,5 @@ static brdffit_status blinn_eval(const brdffit_batch *batch, const double *param
     return bf_kernel_run(&blinn_kernel, batch, params, n_channels, values, jacobian);
 }
 
-const bf_builtin bf_builtin_blinn_phong = {"blinn-phong", 3, cosine_lobe_params, blinn_eval, &blinn_kernel};
+const bf_builtin bf_builtin_blinn_phong = {"blinn-phong", 3, cosine_lobe_params, blinn_eval,
+                                           &blinn_kernel};

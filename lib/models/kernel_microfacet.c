@@ -163,7 +163,8 @@ static lobe_out two_lobe_out(bf_basis *out, size_t lobe)
     return o;
 }
 
-BF_VECTOR_CLONES static void ct_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void ct_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                      bf_basis *out)
 {
     mf_geometry g;
@@ -172,7 +173,8 @@ BF_VECTOR_CLONES static void ct_basis(const brdffit_batch *batch, size_t first, 
     ct_lobe(&g, count, shape[0], shape[1], one_lobe_out(out));
 }
 
-BF_VECTOR_CLONES static void ggx_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void ggx_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                       bf_basis *out)
 {
     mf_geometry g;
@@ -181,7 +183,8 @@ BF_VECTOR_CLONES static void ggx_basis(const brdffit_batch *batch, size_t first,
     ggx_lobe(&g, count, shape[0], shape[1], one_lobe_out(out));
 }
 
-BF_VECTOR_CLONES static void ct2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void ct2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                       bf_basis *out)
 {
     mf_geometry g;
@@ -191,7 +194,8 @@ BF_VECTOR_CLONES static void ct2_basis(const brdffit_batch *batch, size_t first,
     ct_lobe(&g, count, shape[1], shape[2], two_lobe_out(out, 1));
 }
 
-BF_VECTOR_CLONES static void ggx2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void ggx2_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                        bf_basis *out)
 {
     mf_geometry g;
@@ -270,5 +274,6 @@ static const brdffit_param_info ggx2_params[] = {
 
 const bf_builtin bf_builtin_cook_torrance = {"cook-torrance", 4, ct_params, ct_eval, &ct_kernel};
 const bf_builtin bf_builtin_ggx = {"ggx", 4, ggx_params, ggx_eval, &ggx_kernel};
-const bf_builtin bf_builtin_cook_torrance_2 = {"cook-torrance-2", 6, ct2_params, ct2_eval, &ct2_kernel};
+const bf_builtin bf_builtin_cook_torrance_2 = {"cook-torrance-2", 6, ct2_params, ct2_eval,
+                                               &ct2_kernel};
 const bf_builtin bf_builtin_ggx_2 = {"ggx-2", 6, ggx2_params, ggx2_eval, &ggx2_kernel};

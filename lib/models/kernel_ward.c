@@ -36,13 +36,15 @@ static void ward_basis_common(const brdffit_batch *batch, size_t first, size_t c
     }
 }
 
-BF_VECTOR_CLONES static void ward_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
+BF_VECTOR_CLONES
+static void ward_basis(const brdffit_batch *batch, size_t first, size_t count, const double *shape,
                        bf_basis *out)
 {
     ward_basis_common(batch, first, count, shape, out, 0);
 }
 
-BF_VECTOR_CLONES static void ward_duer_basis(const brdffit_batch *batch, size_t first, size_t count,
+BF_VECTOR_CLONES
+static void ward_duer_basis(const brdffit_batch *batch, size_t first, size_t count,
                             const double *shape, bf_basis *out)
 {
     ward_basis_common(batch, first, count, shape, out, 1);
@@ -73,4 +75,5 @@ static const brdffit_param_info ward_params[] = {
 };
 
 const bf_builtin bf_builtin_ward = {"ward", 3, ward_params, ward_eval, &ward_kernel};
-const bf_builtin bf_builtin_ward_duer = {"ward-duer", 3, ward_params, ward_duer_eval, &ward_duer_kernel};
+const bf_builtin bf_builtin_ward_duer = {"ward-duer", 3, ward_params, ward_duer_eval,
+                                         &ward_duer_kernel};
