@@ -42,6 +42,14 @@ for h in "${harnesses[@]}"; do
         failed+=("$h")
         continue
     fi
+    # A harness with an open entry in known_defects.txt would only find that
+    # defect again: it is not fuzzed until the entry is gone (its stored
+    # inputs still run as ctest cases).
+    if grep -q "^$h/" "$src/known_defects.txt"; then
+        echo "fuzz_$h: NOT FUZZED: open known defect, see tests/fuzz/known_defects.txt"
+        summary+=("fuzz_$h: not fuzzed (open known defect)")
+        continue
+    fi
     mkdir -p "$work/$h/corpus" "$work/$h/artifacts"
     cp "$src/corpus/$h/"* "$work/$h/corpus/"
     # inputs of defects not fixed yet would stop the run at once
