@@ -575,6 +575,82 @@ static void test_parameter_extremes(void **state)
     }
 }
 
+/* ---- a fit stopped at the end of a range ------------------------------------ */
+
+/* cd / pi + cs (n.h)^(k / 1e4 + m) with k in [1e-2, 1e5] and m in [0, 1]:
+ * the exponent is 10 at the top of k with m = 0, which the test grid
+ * resolves. The model cancels its own fit the first time it is evaluated at
+ * the top of k. */
+typedef struct edge_user {
+    brdffit_fit *fit;
+    int cancelled;
+} edge_user;
+
+static const brdffit_param_info EDGE_PARAMS[] = {
+    {"k", BRDFFIT_PARAM_LOG_SCALE, 1e-2, 1e5, 10.0},
+    {"m", 0, 0.0, 1.0, 0.5},
+    {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.2},
+    {"cs", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.2},
+};
+
+static brdffit_status edge_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                double *values, double *jac, void *user)
+{
+    edge_user *u = user;
+    size_t s, c, n = b->n;
+    if (u->fit != NULL && !u->cancelled && p[0] >= 1e5 * (1.0 - 1e-9)) {
+        brdffit_fit_cancel(u->fit);
+        u->cancelled = 1;
+    }
+    for (c = 0; c < nc; c++)
+        for (s = 0; s < n; s++) {
+            double lobe = exp((1e-4 * p[0] + p[1]) * b->log_nh[s]);
+            values[c * n + s] = p[2 + c] / 3.14159265358979323846 + p[2 + nc + c] * lobe;
+            if (jac == NULL) continue;
+            jac[c * n + s] = p[2 + nc + c] * lobe * 1e-4 * b->log_nh[s];
+            jac[(nc + c) * n + s] = p[2 + nc + c] * lobe * b->log_nh[s];
+            jac[(2 * nc + c) * n + s] = 1.0 / 3.14159265358979323846;
+            jac[(3 * nc + c) * n + s] = lobe;
+        }
+    return BRDFFIT_OK;
+}
+
+/* Data best fitted at the top of a log-scale range, the fit cancelled while
+ * the global scan evaluates that end (k varies fastest, so the scan goes on
+ * to the next m and sees the cancel there): the result is the scan's best
+ * point, the top, and it lies inside the bounds (the scan's top coordinate,
+ * log(upper) up to rounding, mapped back with exp can overshoot the bound). */
+static void test_cancel_at_range_end(void **state)
+{
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    edge_user user = {NULL, 0};
+    brdffit_model *model = NULL;
+    brdffit_grid *grid;
+    brdffit_fit *fit = NULL;
+    double truth[4] = {1e5, 0.0, 0.1, 0.5}, p[4];
+    (void)state;
+    def.name = "edge";
+    def.n_params = 4;
+    def.params = EDGE_PARAMS;
+    def.eval = edge_eval;
+    def.user = &user;
+    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
+    grid = fx_grid_from_model(model, truth, 1, small_axes(), 0.0, 1);
+    assert_non_null(grid);
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    user.fit = fit;
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+    assert_true(user.cancelled);
+    assert_int_equal(brdffit_fit_stop_reason(fit), BRDFFIT_STOP_CANCELLED);
+    assert_int_equal(brdffit_fit_params(fit, p), BRDFFIT_OK);
+    if (!(p[0] <= 1e5)) print_error("k = %.17g above its bound 1e5\n", p[0]);
+    assert_true(p[0] <= 1e5 && p[0] >= 1e5 * (1.0 - 1e-9));
+    assert_true(p[1] == 0.0);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
 /* ---- channel counts ------------------------------------------------------------- */
 
 /* One channel and 64 channels (colours different in every channel), exact
@@ -648,6 +724,7 @@ int main(void)
         cmocka_unit_test(test_cap_zero),
         cmocka_unit_test(test_cap_90),
         cmocka_unit_test(test_parameter_extremes),
+        cmocka_unit_test(test_cancel_at_range_end),
         cmocka_unit_test(test_one_channel),
         cmocka_unit_test(test_64_channels),
     };

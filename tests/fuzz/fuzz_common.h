@@ -6,6 +6,7 @@
 #define BRDFFIT_FUZZ_COMMON_H
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -44,9 +45,15 @@ static void fuzz_alloc_init(fuzz_alloc *fa, size_t fail_at)
     fa->fail_at = fail_at;
 }
 
-static void fuzz_require(int ok)
+/* A violated invariant names itself on stderr before the abort, so a stored
+ * crash input says what it breaks. */
+#define fuzz_require(ok) fuzz_require_at((ok) != 0, #ok, __FILE__, __LINE__)
+
+static void fuzz_require_at(int ok, const char *what, const char *file, int line)
 {
-    if (!ok) abort();
+    if (ok) return;
+    fprintf(stderr, "%s:%d: invariant failed: %s\n", file, line, what);
+    abort();
 }
 
 /* A failed load leaves no grid and a terminated message with its status. */
