@@ -1,5 +1,6 @@
 /* Interpolation of a regular grid: nodes, trilinear interpolation, folding
  * by isotropy, mirror symmetry and reciprocity, missing neighbours. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -167,6 +168,35 @@ static void test_single_value_axes(void **state)
     brdffit_grid_destroy(g);
 }
 
+/* Values at DBL_MAX: the weighted mean stays finite and between its
+ * neighbours everywhere (a plain sum of weighted values overflows where
+ * the weights add up to a little more than 1 by rounding). */
+static void test_huge_values(void **state)
+{
+    static const double t1[] = {30.0};
+    static const double t2[] = {0.0, 60.0};
+    static const double p2[] = {0.0, 180.0};
+    fx_axes a;
+    brdffit_grid *g = NULL;
+    double v[4] = {DBL_MAX, DBL_MAX, DBL_MAX, DBL_MAX};
+    int i, j;
+    (void)state;
+    fx_axes_set(&a, t1, 1, t2, 2, p2, 2);
+    assert_int_equal(brdffit_grid_create_regular(&g, &a.axes, 1, v, NULL, NULL, NULL), BRDFFIT_OK);
+    for (i = 0; i <= 60; i++)
+        for (j = 0; j <= 60; j++) {
+            double x = eval1(g, DEG(30), PI, DEG(i), DEG(3 * j) + 1e-3 * i);
+            if (x != DBL_MAX) print_error("theta_o %d, phi_o %d: %g\n", i, 3 * j, x);
+            assert_true(x == DBL_MAX);
+        }
+    brdffit_grid_destroy(g);
+    v[1] = 0.5 * DBL_MAX;
+    assert_int_equal(brdffit_grid_create_regular(&g, &a.axes, 1, v, NULL, NULL, NULL), BRDFFIT_OK);
+    assert_close(eval1(g, DEG(30), PI, DEG(30), DEG(90)), 0.875 * DBL_MAX, 1e-12);
+    assert_close(eval1(g, DEG(30), PI, DEG(30), PI), 0.75 * DBL_MAX, 1e-12);
+    brdffit_grid_destroy(g);
+}
+
 static void test_missing_neighbours(void **state)
 {
     fx_axes a;
@@ -236,6 +266,7 @@ int main(void)
         cmocka_unit_test(test_reciprocity),
         cmocka_unit_test(test_clamping),
         cmocka_unit_test(test_single_value_axes),
+        cmocka_unit_test(test_huge_values),
         cmocka_unit_test(test_missing_neighbours),
         cmocka_unit_test(test_eval_errors),
     };

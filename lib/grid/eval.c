@@ -50,10 +50,12 @@ static int within(const double *x, size_t n, double v)
 }
 
 typedef struct corner_sum {
-    double wsum, vsum;
+    double wsum, mean;
 } corner_sum;
 
-/* Accumulate the weighted present values of one channel over the corners. */
+/* The weighted mean of the present values of one channel over the corners,
+ * kept as a running mean: a convex update, which cannot overflow where the
+ * sum of weighted values near DBL_MAX would. */
 static corner_sum channel_sum(const brdffit_grid *g, size_t c, const bracket b[3])
 {
     corner_sum r = {0.0, 0.0};
@@ -68,7 +70,7 @@ static corner_sum channel_sum(const brdffit_grid *g, size_t c, const bracket b[3
         if (!(w > 0.0)) continue;
         if (g->missing != NULL && g->missing[c * n + s]) continue;
         r.wsum += w;
-        r.vsum += w * g->values[c * n + s];
+        r.mean += w / r.wsum * (g->values[c * n + s] - r.mean);
     }
     return r;
 }
@@ -98,7 +100,7 @@ brdffit_status brdffit_grid_eval(const brdffit_grid *grid, double theta_i, doubl
     b[2] = find_bracket(grid->axis[2], grid->n_axis[2], fold_azimuth(phi_o - (phi_i - BF_PI)));
     for (c = 0; c < grid->n_channels; c++) {
         corner_sum r = channel_sum(grid, c, b);
-        out[c] = r.wsum > 0.0 ? r.vsum / r.wsum : 0.0;
+        out[c] = r.wsum > 0.0 ? r.mean : 0.0;
         if (r.wsum > 0.0) continue;
         if (n_empty++ == 0) first_empty = c;
     }
