@@ -217,6 +217,9 @@ static brdffit_status configure(bf_stage *st, size_t rows)
         brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, (double)fit->max_iterations));
     BF_RETURN_IF_ERROR(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_EVALUATIONS,
                                              (double)(5 * fit->max_iterations + 10)));
+    /* a BRDF fit needs no more than 1e-12 of relative cost reduction: its
+     * parameters are then far inside their standard errors */
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set(opt, BRDFFIT_OPT_FTOL, 1e-12));
     return brdffit_optimizer_set_callback(opt, stage_iteration, st);
 }
 
