@@ -87,12 +87,14 @@ static size_t find_dims(const bf_stage *st, scan_dim *dims)
     return nd;
 }
 
-/* Grid points per dimension: three per decade (one dimension) or two
- * (several), eleven or six over a linear range, at most ~2000 in all. */
+/* Grid points per dimension: two per decade over a logarithmic range (a
+ * profile minimum is broad in log space, and LM polishes it from anywhere
+ * in its basin), eleven (one dimension) or six (several) over a linear
+ * range, at most ~2000 in all. */
 static void choose_counts(scan_dim *dims, size_t nd)
 {
     size_t d, total;
-    double per_decade = nd == 1 ? 3.0 : 2.0;
+    double per_decade = 2.0;
     for (d = 0; d < nd; d++) {
         double decades = (dims[d].hi - dims[d].lo) / log(10.0);
         size_t n = dims[d].log ? (size_t)ceil(decades * per_decade) + 1 : (nd == 1 ? 11 : 6);
