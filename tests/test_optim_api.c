@@ -66,7 +66,7 @@ static void test_settings_defaults_and_restore(void **state)
 {
     brdffit_optimizer *opt = make(2);
     (void)state;
-    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-10);
+    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
     assert_true(get(opt, BRDFFIT_OPT_XTOL) == 1e-10);
     assert_true(get(opt, BRDFFIT_OPT_FTOL) == 1e-15);
     assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 2000);
@@ -85,7 +85,7 @@ static void test_settings_defaults_and_restore(void **state)
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, 0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, 0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_DIAG_FLOOR, 0), BRDFFIT_OK);
-    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-10);
+    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
     assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 2000);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 0);
@@ -543,6 +543,51 @@ static void test_limits(void **state)
     brdffit_optimizer_destroy(opt);
 }
 
+/* A straight line through five points that it cannot pass through
+ * (non-zero residuals), with the parameters in units `xs` (the model sees
+ * x / xs) and the residuals in units `rs`. */
+typedef struct units {
+    double xs, rs;
+} units;
+
+static brdffit_status scaled_line(const double *x, double *r, double *jac, void *user)
+{
+    static const double t[5] = {0.0, 1.0, 2.0, 3.0, 4.0}, y[5] = {1.0, 2.9, 5.2, 6.8, 9.3};
+    const units *u = user;
+    size_t i;
+    for (i = 0; i < 5; i++) {
+        r[i] = u->rs * (x[0] / u->xs + x[1] / u->xs * t[i] - y[i]);
+        if (jac == NULL) continue;
+        jac[2 * i] = u->rs / u->xs;
+        jac[2 * i + 1] = u->rs * t[i] / u->xs;
+    }
+    return BRDFFIT_OK;
+}
+
+/* The gradient test is the cosine between the residuals and each Jacobian
+ * column: the same run, with the same stop, in any units. */
+static void test_gradient_test_scale_free(void **state)
+{
+    static const units cases[] = {{1.0, 1.0}, {1e6, 1.0}, {1.0, 1e-6}, {1e-4, 1e5}};
+    size_t k, iterations = 0;
+    (void)state;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        brdffit_optimizer *opt = make(2);
+        double x[2] = {0.0, 0.0};
+        assert_int_equal(
+            brdffit_optimizer_set_residuals(opt, 5, scaled_line, (void *)&cases[k]), BRDFFIT_OK);
+        assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, 1e-8), BRDFFIT_OK);
+        assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
+        assert_int_equal(brdffit_optimizer_stop_reason(opt), BRDFFIT_STOP_GRADIENT);
+        if (k == 0) iterations = brdffit_optimizer_iterations(opt);
+        assert_int_equal(brdffit_optimizer_iterations(opt), iterations);
+        /* least squares: intercept 0.94, slope 2.05 */
+        assert_close(x[0] / cases[k].xs, 0.94, 1e-9);
+        assert_close(x[1] / cases[k].xs, 2.05, 1e-9);
+        brdffit_optimizer_destroy(opt);
+    }
+}
+
 /* x - 3 = 0 has zero cost at its start. */
 static brdffit_status shifted(const double *x, double *r, double *jac, void *user)
 {
@@ -998,7 +1043,7 @@ static void test_changes_during_run_rejected(void **state)
     assert_int_equal(re.run_status, BRDFFIT_E_INVALID_ARGUMENT);
     assert_int_equal(re.damping_status, BRDFFIT_E_INVALID_ARGUMENT);
     assert_close(x[0], 1.0, 1e-8);
-    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-10);
+    assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
     brdffit_optimizer_destroy(opt);
 }
 
@@ -1095,6 +1140,7 @@ int main(void)
         cmocka_unit_test(test_failure_then_nan_by_call_count),
         cmocka_unit_test(test_iteration_callback_stops),
         cmocka_unit_test(test_limits),
+        cmocka_unit_test(test_gradient_test_scale_free),
         cmocka_unit_test(test_zero_cost),
         cmocka_unit_test(test_user_damping_policy),
         cmocka_unit_test(test_builtin_policies),

@@ -114,7 +114,7 @@ typedef struct brdffit_damping {
 
 /** @brief Numeric settings for brdffit_optimizer_set(). Values are fixed forever. */
 typedef enum brdffit_optim_setting {
-    BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| * max(|x_j|, 1) <= gtol * max(cost, DBL_MIN), g = J^T r, over the parameters that may move (not fixed, not pushing out of a bound); default 1e-10. */
+    BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| / sqrt(A_jj * cost) <= gtol, g = J^T r, A = J^T J, over the parameters that may move (not fixed, not pushing out of a bound): the cosine between the residual vector and each Jacobian column, independent of the units of parameters and residuals; default 1e-13. */
     BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has ||step|| <= xtol * (||x|| + xtol), before it is evaluated; default 1e-10. */
     BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by at most ftol * cost and the model predicted no more; default 1e-15. */
     BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 2000; at most 2^53. */

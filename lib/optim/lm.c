@@ -90,20 +90,23 @@ static brdffit_status history_push(lm_run *run)
 
 /* --- stopping tests ----------------------------------------------------------- */
 
-/* max_j |g_j| max(|x_j|, 1) <= gtol max(cost, DBL_MIN), over the
- * components that may move: not fixed, not pushing out of a bound. */
+/* max_j |g_j| / sqrt(A_jj cost) <= gtol, over the components that may move
+ * (not fixed, not pushing out of a bound): the cosine of the angle between
+ * the residual vector and each Jacobian column, which neither the units of
+ * the parameters nor those of the residuals change. A zero column never
+ * passes; with no component free to move the test passes. */
 static int gradient_small(const lm_run *run)
 {
     const brdffit_optimizer *opt = run->opt;
     const bf_optim_work *w = &opt->w;
-    double gmax = 0.0;
-    size_t j;
-    for (j = 0; j < opt->n_params; j++) {
-        double x = w->x[j], g = w->g[j];
+    const double scale = opt->settings.gtol * sqrt(run->cost);
+    size_t j, p = opt->n_params;
+    for (j = 0; j < p; j++) {
+        double x = w->x[j], g = w->g[j], a = w->jtj[j * p + j];
         if (w->fixed[j] || (x <= w->lower[j] && g > 0.0) || (x >= w->upper[j] && g < 0.0)) continue;
-        gmax = fmax(gmax, fabs(g) * fmax(fabs(x), 1.0));
+        if (!(a > 0.0) || !(fabs(g) <= scale * sqrt(a))) return 0;
     }
-    return gmax <= opt->settings.gtol * fmax(run->cost, DBL_MIN);
+    return 1;
 }
 
 static brdffit_stop_reason check_before(const lm_run *run)
