@@ -69,8 +69,8 @@ static void test_settings_defaults_and_restore(void **state)
     assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
     assert_true(get(opt, BRDFFIT_OPT_XTOL) == 1e-10);
     assert_true(get(opt, BRDFFIT_OPT_FTOL) == 1e-15);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 2000);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_EVALUATIONS) == 5000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 5000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_EVALUATIONS) == 12000);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 1);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, 1e-6), BRDFFIT_OK);
@@ -86,7 +86,7 @@ static void test_settings_defaults_and_restore(void **state)
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, 0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_DIAG_FLOOR, 0), BRDFFIT_OK);
     assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 2000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 5000);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 0);
     brdffit_optimizer_destroy(opt);

@@ -117,8 +117,8 @@ typedef enum brdffit_optim_setting {
     BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| / sqrt(A_jj * cost) <= gtol, g = J^T r, A = J^T J, over the parameters that may move (not fixed, not pushing out of a bound): the cosine between the residual vector and each Jacobian column, independent of the units of parameters and residuals; default 1e-13. */
     BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has ||step|| <= xtol * (||x|| + xtol), before it is evaluated; default 1e-10. */
     BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by at most ftol * cost and the model predicted no more; default 1e-15. */
-    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 2000; at most 2^53. */
-    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 5000; at most 2^53. */
+    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 5000; at most 2^53. */
+    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 12000; at most 2^53. */
     BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt, D = diag(J^T J) (default); 0 = Levenberg, D = d0 I with d0 the largest diagonal entry of J^T J at the start point. */
     BRDFFIT_OPT_DIAG_FLOOR = 7      /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-15. */
 } brdffit_optim_setting;

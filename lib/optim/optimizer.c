@@ -13,7 +13,7 @@
 
 enum { BF_WORK_VECTORS = 12, BF_WORK_MATRICES = 4 };
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 2000, 5000, 1};
+static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 5000, 12000, 1};
 
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
 {
