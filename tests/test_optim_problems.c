@@ -233,6 +233,26 @@ static void test_meyer(void **state)
     for_each_combo(mgh("meyer"), NULL, 5000, meyer_combo);
 }
 
+/* Meyer from the far start (2, 4e5, 2.5e4), with nothing but the defaults
+ * (Nielsen's policy, Marquardt scaling, the default limits and
+ * tolerances): a few thousand iterations down a narrow valley, which the
+ * default iteration limit leaves room for. */
+static void test_meyer_far_start_defaults(void **state)
+{
+    brdffit_optimizer *opt = NULL;
+    double x[3] = {2.0, 400000.0, 25000.0};
+    (void)state;
+    assert_int_equal(brdffit_optimizer_create(&opt, 3, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set_residuals(opt, 16, optim_meyer, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
+    assert_true(is_convergence(brdffit_optimizer_stop_reason(opt)));
+    assert_close(brdffit_optimizer_final_cost(opt), 87.9458551708511, 1e-9);
+    assert_close(x[0], 0.005609636471028, 1e-6);
+    assert_close(x[1], 6181.346346286, 1e-6);
+    assert_close(x[2], 345.2236346241, 1e-6);
+    brdffit_optimizer_destroy(opt);
+}
+
 /* --- Box 3-D: minimum 0 at (1, 10, 1), (10, 1, -1) and on x1 = x2, x3 = 0 ------------- */
 
 static void box3d_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
@@ -362,6 +382,7 @@ int main(void)
         cmocka_unit_test(test_powell_singular),
         cmocka_unit_test(test_freudenstein_roth),
         cmocka_unit_test(test_meyer),
+        cmocka_unit_test(test_meyer_far_start_defaults),
         cmocka_unit_test(test_box3d),
         cmocka_unit_test(test_jennrich_sampson),
         cmocka_unit_test(test_exp_fit),
