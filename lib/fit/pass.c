@@ -3,7 +3,6 @@
 #include "fit/pass_internal.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <string.h>
 
 #include "core/core.h"
@@ -298,16 +297,14 @@ static brdffit_status run_chunk(worker *wk, size_t ci)
     return BRDFFIT_OK;
 }
 
-static void *run_worker(void *arg)
+static void run_worker(worker *wk)
 {
-    worker *wk = arg;
     size_t ci;
     wk->status = BRDFFIT_OK;
     for (ci = wk->chunk_begin; ci < wk->chunk_end; ci++) {
         wk->status = run_chunk(wk, ci);
         if (wk->status != BRDFFIT_OK) break;
     }
-    return NULL;
 }
 
 /* Mirror the upper triangles accumulated by NORMAL and VARPRO. */
@@ -328,23 +325,10 @@ static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
     }
 }
 
-static brdffit_status run_workers(worker *wk, size_t threads)
+static void worker_task(void *arg, size_t task)
 {
-    pthread_t tid[BF_MAX_THREADS];
-    size_t t, started = 0;
-    if (threads == 1) {
-        run_worker(&wk[0]);
-        return BRDFFIT_OK;
-    }
-    for (t = 1; t < threads; t++) {
-        if (pthread_create(&tid[t], NULL, run_worker, &wk[t]) != 0) break;
-        started = t;
-    }
-    /* The calling thread takes block 0, and any block whose thread did not start. */
-    run_worker(&wk[0]);
-    for (t = started + 1; t < threads; t++) run_worker(&wk[t]);
-    for (t = 1; t <= started; t++) pthread_join(tid[t], NULL);
-    return BRDFFIT_OK;
+    worker *wk = arg;
+    run_worker(&wk[task]);
 }
 
 static int all_finite(const double *a, size_t n)
@@ -372,7 +356,7 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
         wk[t].err.message[0] = '\0';
         scratch_carve(&wk[t].sc, pb->work + t * per, pb, kind, n_part);
     }
-    run_workers(wk, threads);
+    bf_pool_run(pb->pool, worker_task, wk, threads);
     for (t = 0; t < threads; t++) {
         if (wk[t].status == BRDFFIT_OK) continue;
         if (err != NULL) *err = wk[t].err;

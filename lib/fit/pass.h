@@ -9,8 +9,9 @@
  *           columns of the K linear parameters, W = diag(w^2)
  *   METRICS per channel m: [sum d^2, sum a (cos d)^2, sum a, sum (w d)^2],
  *           d = M - R, a the solid-angle weight alone
- * Threads take contiguous blocks of chunks and their partial sums are added
- * in thread order, so a pass is deterministic for a given thread count. */
+ * The chunks are split into `threads` contiguous blocks, run by the pool's
+ * helpers and the calling thread, and the blocks' partial sums are added in
+ * block order, so a pass is deterministic for a given thread count. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
@@ -18,6 +19,7 @@
 #include <stddef.h>
 
 #include "brdffit/model.h"
+#include "fit/pool.h"
 #include "grid/grid_internal.h"
 
 typedef enum bf_source { BF_SOURCE_CHANNELS, BF_SOURCE_ONE_CHANNEL, BF_SOURCE_MEAN } bf_source;
@@ -39,7 +41,8 @@ typedef struct bf_problem {
     size_t n_linear;               /* linear declared parameters */
     size_t linear[16];             /* their declared indices */
     const size_t *vindex;          /* [k * nc + m]: vector index of declared k, channel m */
-    size_t threads;
+    size_t threads;                /* blocks of a pass (at most BF_MAX_THREADS) */
+    bf_pool *pool;                 /* helper threads for the blocks; NULL: the caller runs all */
     double *work;                  /* bf_pass_work_size() doubles, owned by the caller */
 } bf_problem;
 

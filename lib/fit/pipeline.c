@@ -486,6 +486,14 @@ static brdffit_status check_scale(bf_run *run)
     return BRDFFIT_E_RANGE;
 }
 
+/* Helper threads for the run: one per pass block beyond the caller's. */
+static size_t helper_count(const bf_run *run)
+{
+    size_t blocks = run->fit->threads < BF_MAX_THREADS ? run->fit->threads : BF_MAX_THREADS;
+    if (blocks > run->plan.n_chunks) blocks = run->plan.n_chunks;
+    return blocks > 1 ? blocks - 1 : 0;
+}
+
 brdffit_status bf_fit_execute(brdffit_fit *fit)
 {
     bf_run run;
@@ -499,6 +507,7 @@ brdffit_status bf_fit_execute(brdffit_fit *fit)
         bf_weight_plan_free(&run.plan_sa, &fit->alloc);
         return status;
     }
+    bf_pool_start(&run.pool, helper_count(&run));
     switch (fit->pipeline) {
     case BRDFFIT_PIPELINE_JOINT: status = pipeline_joint(&run, fit->params, fit->std_errors); break;
     case BRDFFIT_PIPELINE_TWO_STAGE:
@@ -507,6 +516,7 @@ brdffit_status bf_fit_execute(brdffit_fit *fit)
     default: status = pipeline_auto(&run, fit->params, fit->std_errors); break;
     }
     if (status == BRDFFIT_OK) status = final_metrics(&run, fit->params);
+    bf_pool_stop(&run.pool);
     if (status == BRDFFIT_OK && run.cancelled) fit->stop = BRDFFIT_STOP_CANCELLED;
     fit->passes = run.passes;
     bf_weight_plan_free(&run.plan, &fit->alloc);

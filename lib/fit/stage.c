@@ -47,6 +47,7 @@ static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t sourc
     st->pb.clearcoat = fit->clearcoat;
     st->pb.n_vec = brdffit_model_vector_size(model, nc);
     st->pb.threads = fit->threads;
+    st->pb.pool = &st->run->pool;
     for (k = 0; k < model->n_params && st->pb.n_linear < 16; k++)
         if (model->params[k].flags & BRDFFIT_PARAM_LINEAR) st->pb.linear[st->pb.n_linear++] = k;
 }

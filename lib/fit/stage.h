@@ -14,6 +14,7 @@
 typedef struct bf_run {
     brdffit_fit *fit;
     bf_weight_plan plan, plan_sa;
+    bf_pool pool; /* fit->threads - 1 helpers for every pass of the run */
     size_t passes;
     int cancelled;
 } bf_run;
