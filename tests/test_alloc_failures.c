@@ -254,167 +254,155 @@ static int group_teardown(void **state)
     return 0;
 }
 
+/* ---- calls that make a grid: loaders, constructors, derived grids ------------------------- */
+
+typedef brdffit_status (*make_fn)(const void *spec, brdffit_grid **out,
+                                  const brdffit_allocator *a, brdffit_error *err);
+
+/* One call to sweep: `make` with `spec`, its result and the reference made
+ * without a failing allocator. */
+typedef struct make_job {
+    make_fn make;
+    const void *spec;
+    brdffit_grid *out, *ref;
+    brdffit_error err;
+} make_job;
+
+static brdffit_status make_call(void *ctx, counting_alloc *ca)
+{
+    make_job *j = ctx;
+    brdffit_status st = j->make(j->spec, &j->out, &ca->hook, &j->err);
+    check_create_failure(st, j->out, &j->err);
+    return st;
+}
+
+static void make_check(void *ctx)
+{
+    make_job *j = ctx;
+    assert_grids_equal(j->out, j->ref);
+}
+
+static void make_teardown(void *ctx)
+{
+    make_job *j = ctx;
+    brdffit_grid_destroy(j->out);
+    j->out = NULL;
+}
+
+static void run_make(const char *name, make_fn make, const void *spec)
+{
+    make_job j;
+    sweep_ops ops = {name, NULL, make_call, make_check, make_teardown, 1};
+    memset(&j, 0, sizeof j);
+    j.make = make;
+    j.spec = spec;
+    assert_int_equal(make(spec, &j.ref, NULL, &j.err), BRDFFIT_OK);
+    sweep(&ops, &j);
+    brdffit_grid_destroy(j.ref);
+}
+
 /* ---- loaders -------------------------------------------------------------------------------- */
 
 typedef enum load_kind { LOAD_CSV, LOAD_CSV_BUFFER, LOAD_MERL, LOAD_MERL_BUFFER } load_kind;
 
-typedef struct load_ctx {
+typedef struct load_spec {
     load_kind kind;
     const char *path;
     const void *data;
     size_t size;
     const brdffit_axes *axes;
-    brdffit_grid *out, *ref;
-    brdffit_error err;
-} load_ctx;
+} load_spec;
 
-static brdffit_status load_with(load_ctx *k, brdffit_grid **out, const brdffit_allocator *a)
+static brdffit_status load_with(const void *spec, brdffit_grid **out, const brdffit_allocator *a,
+                                brdffit_error *err)
 {
+    const load_spec *k = spec;
     switch (k->kind) {
-    case LOAD_CSV: return brdffit_load_csv(out, k->path, a, &k->err);
-    case LOAD_CSV_BUFFER: return brdffit_load_csv_buffer(out, k->data, k->size, a, &k->err);
-    case LOAD_MERL: return brdffit_load_merl(out, k->path, k->axes, a, &k->err);
-    case LOAD_MERL_BUFFER:
-        return brdffit_load_merl_buffer(out, k->data, k->size, k->axes, a, &k->err);
+    case LOAD_CSV: return brdffit_load_csv(out, k->path, a, err);
+    case LOAD_CSV_BUFFER: return brdffit_load_csv_buffer(out, k->data, k->size, a, err);
+    case LOAD_MERL: return brdffit_load_merl(out, k->path, k->axes, a, err);
+    case LOAD_MERL_BUFFER: return brdffit_load_merl_buffer(out, k->data, k->size, k->axes, a, err);
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
-}
-
-static brdffit_status load_call(void *ctx, counting_alloc *ca)
-{
-    load_ctx *k = ctx;
-    brdffit_status st = load_with(k, &k->out, &ca->hook);
-    check_create_failure(st, k->out, &k->err);
-    return st;
-}
-
-static void load_check(void *ctx)
-{
-    load_ctx *k = ctx;
-    assert_grids_equal(k->out, k->ref);
-}
-
-static void load_teardown(void *ctx)
-{
-    load_ctx *k = ctx;
-    brdffit_grid_destroy(k->out);
-    k->out = NULL;
-}
-
-static void run_load(const char *name, load_ctx *k)
-{
-    sweep_ops ops = {name, NULL, load_call, load_check, load_teardown, 1};
-    assert_int_equal(load_with(k, &k->ref, NULL), BRDFFIT_OK);
-    sweep(&ops, k);
-    brdffit_grid_destroy(k->ref);
 }
 
 static void test_loaders(void **state)
 {
     inputs *in = *state;
-    load_ctx k;
+    load_spec k;
     memset(&k, 0, sizeof k);
     k.kind = LOAD_CSV, k.path = in->csv_path;
-    run_load("brdffit_load_csv (grid form, missing values)", &k);
+    run_make("brdffit_load_csv (grid form, missing values)", load_with, &k);
     k.kind = LOAD_CSV_BUFFER, k.data = in->csv, k.size = strlen(in->csv);
-    run_load("brdffit_load_csv_buffer (grid form, missing values)", &k);
+    run_make("brdffit_load_csv_buffer (grid form, missing values)", load_with, &k);
     k.data = in->csv_scattered, k.size = strlen(in->csv_scattered);
-    run_load("brdffit_load_csv_buffer (scattered form)", &k);
+    run_make("brdffit_load_csv_buffer (scattered form)", load_with, &k);
     k.kind = LOAD_MERL, k.path = in->merl_path, k.axes = &in->merl_axes.axes;
-    run_load("brdffit_load_merl (resampled)", &k);
+    run_make("brdffit_load_merl (resampled)", load_with, &k);
     k.kind = LOAD_MERL_BUFFER, k.data = in->merl, k.size = FX_MERL_SIZE, k.axes = NULL;
-    run_load("brdffit_load_merl_buffer (scattered)", &k);
+    run_make("brdffit_load_merl_buffer (scattered)", load_with, &k);
     k.axes = &in->merl_axes.axes;
-    run_load("brdffit_load_merl_buffer (resampled)", &k);
+    run_make("brdffit_load_merl_buffer (resampled)", load_with, &k);
 }
 
 /* ---- grid creation and derived grids -------------------------------------------------------- */
 
 typedef enum grid_kind { MAKE_REGULAR, MAKE_SCATTERED, MAKE_MEAN, MAKE_CLEARCOAT } grid_kind;
 
-typedef struct grid_ctx {
+typedef struct grid_spec {
     const inputs *in;
     grid_kind kind;
     const unsigned char *mask;
     const double *weights;
     const brdffit_grid *src;
-    brdffit_grid *out, *ref;
-    brdffit_error err;
-} grid_ctx;
+} grid_spec;
 
-static brdffit_status make_with(grid_ctx *k, brdffit_grid **out, const brdffit_allocator *a)
+static brdffit_status make_with(const void *spec, brdffit_grid **out, const brdffit_allocator *a,
+                                brdffit_error *err)
 {
+    const grid_spec *k = spec;
     const inputs *in = k->in;
     switch (k->kind) {
     case MAKE_REGULAR:
-        return brdffit_grid_create_regular(out, &in->axes.axes, 3, in->values, k->mask, a, &k->err);
+        return brdffit_grid_create_regular(out, &in->axes.axes, 3, in->values, k->mask, a, err);
     case MAKE_SCATTERED:
         return brdffit_grid_create_scattered(out, N_SCATTERED, in->ti, in->pi, in->to, in->po, 2,
-                                             in->sc_values, k->mask, k->weights, a, &k->err);
-    case MAKE_MEAN: return brdffit_grid_channel_mean(out, k->src, a, &k->err);
-    case MAKE_CLEARCOAT: return brdffit_grid_clearcoat(out, k->src, 0.04, a, &k->err);
+                                             in->sc_values, k->mask, k->weights, a, err);
+    case MAKE_MEAN: return brdffit_grid_channel_mean(out, k->src, a, err);
+    case MAKE_CLEARCOAT: return brdffit_grid_clearcoat(out, k->src, 0.04, a, err);
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
-}
-
-static brdffit_status grid_call(void *ctx, counting_alloc *ca)
-{
-    grid_ctx *k = ctx;
-    brdffit_status st = make_with(k, &k->out, &ca->hook);
-    check_create_failure(st, k->out, &k->err);
-    return st;
-}
-
-static void grid_check(void *ctx)
-{
-    grid_ctx *k = ctx;
-    assert_grids_equal(k->out, k->ref);
-}
-
-static void grid_teardown(void *ctx)
-{
-    grid_ctx *k = ctx;
-    brdffit_grid_destroy(k->out);
-    k->out = NULL;
-}
-
-static void run_grid(const char *name, grid_ctx *k)
-{
-    sweep_ops ops = {name, NULL, grid_call, grid_check, grid_teardown, 1};
-    assert_int_equal(make_with(k, &k->ref, NULL), BRDFFIT_OK);
-    sweep(&ops, k);
-    brdffit_grid_destroy(k->ref);
 }
 
 static void test_grids(void **state)
 {
     inputs *in = *state;
     unsigned char sc_mask[2 * N_SCATTERED] = {0};
-    grid_ctx k;
+    grid_spec k;
     memset(&k, 0, sizeof k);
     k.in = in;
     sc_mask[3] = sc_mask[10] = 1;
     k.kind = MAKE_REGULAR;
-    run_grid("brdffit_grid_create_regular", &k);
+    run_make("brdffit_grid_create_regular", make_with, &k);
     k.mask = in->mask;
-    run_grid("brdffit_grid_create_regular (missing values)", &k);
+    run_make("brdffit_grid_create_regular (missing values)", make_with, &k);
     k.kind = MAKE_SCATTERED, k.mask = NULL;
-    run_grid("brdffit_grid_create_scattered", &k);
+    run_make("brdffit_grid_create_scattered", make_with, &k);
     k.mask = sc_mask, k.weights = in->sc_weights;
-    run_grid("brdffit_grid_create_scattered (missing, weights)", &k);
+    run_make("brdffit_grid_create_scattered (missing, weights)", make_with, &k);
     k.kind = MAKE_MEAN, k.src = in->regular;
-    run_grid("brdffit_grid_channel_mean (regular)", &k);
+    run_make("brdffit_grid_channel_mean (regular)", make_with, &k);
     k.src = in->scattered;
-    run_grid("brdffit_grid_channel_mean (scattered, weights)", &k);
+    run_make("brdffit_grid_channel_mean (scattered, weights)", make_with, &k);
     k.kind = MAKE_CLEARCOAT, k.src = in->regular;
-    run_grid("brdffit_grid_clearcoat (regular)", &k);
+    run_make("brdffit_grid_clearcoat (regular)", make_with, &k);
     k.src = in->scattered;
-    run_grid("brdffit_grid_clearcoat (scattered, weights)", &k);
+    run_make("brdffit_grid_clearcoat (scattered, weights)", make_with, &k);
 }
 
 /* brdffit_grid_weights allocates through the grid's own allocator. */
 typedef struct weights_ctx {
-    grid_ctx make;
+    grid_spec make;
     unsigned flags;
     brdffit_grid *grid;
     double out[6 * 8 * 7], ref[6 * 8 * 7];
@@ -424,7 +412,7 @@ typedef struct weights_ctx {
 static void weights_setup(void *ctx, counting_alloc *ca)
 {
     weights_ctx *k = ctx;
-    assert_int_equal(make_with(&k->make, &k->grid, &ca->hook), BRDFFIT_OK);
+    assert_int_equal(make_with(&k->make, &k->grid, &ca->hook, &k->err), BRDFFIT_OK);
 }
 
 static brdffit_status weights_call(void *ctx, counting_alloc *ca)
@@ -454,7 +442,7 @@ static void run_weights(const char *name, weights_ctx *k, int allocates)
 {
     sweep_ops ops = {name, weights_setup, weights_call, weights_check, weights_teardown, allocates};
     brdffit_grid *g = NULL;
-    assert_int_equal(make_with(&k->make, &g, NULL), BRDFFIT_OK);
+    assert_int_equal(make_with(&k->make, &g, NULL, &k->err), BRDFFIT_OK);
     assert_int_equal(brdffit_grid_weights(g, DEG(65.0), k->flags, k->ref, NULL), BRDFFIT_OK);
     brdffit_grid_destroy(g);
     sweep(&ops, k);
