@@ -118,12 +118,7 @@ static void set_point(bf_stage *st, const scan_dim *dims, size_t nd, const doubl
 {
     size_t d;
     memcpy(st->p, st->base, st->n * sizeof *st->p);
-    for (d = 0; d < nd; d++) {
-        size_t e = dims[d].entry;
-        double v = dims[d].log ? exp(u[d]) : u[d];
-        /* the range ends, log(bound) mapped back, may miss the bound by an ulp */
-        st->p[e] = fmin(fmax(v, st->lower[e]), st->upper[e]);
-    }
+    for (d = 0; d < nd; d++) st->p[dims[d].entry] = bf_stage_natural(st, dims[d].entry, u[d]);
 }
 
 static brdffit_status profile_at(bf_stage *st, const scan_dim *dims, size_t nd, const double *u,

@@ -139,14 +139,17 @@ brdffit_status bf_stage_fail(bf_stage *st, brdffit_status status, const char *wh
     return status;
 }
 
+double bf_stage_natural(const bf_stage *st, size_t e, double x)
+{
+    double v = st->logs[e] ? exp(x) : x;
+    /* exp(log(bound)) may miss the bound by an ulp */
+    return v < st->lower[e] ? st->lower[e] : (v > st->upper[e] ? st->upper[e] : v);
+}
+
 static void to_natural(const bf_stage *st, const double *x, double *p)
 {
     size_t e;
-    for (e = 0; e < st->n; e++) {
-        double v = st->logs[e] ? exp(x[e]) : x[e];
-        /* exp(log(bound)) may miss the bound by an ulp */
-        p[e] = v < st->lower[e] ? st->lower[e] : (v > st->upper[e] ? st->upper[e] : v);
-    }
+    for (e = 0; e < st->n; e++) p[e] = bf_stage_natural(st, e, x[e]);
 }
 
 static void to_optimiser(const bf_stage *st, const double *p, double *x)

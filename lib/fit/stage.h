@@ -47,6 +47,10 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
                              size_t source_channel, int fix_shared);
 void bf_stage_free(bf_stage *st);
 
+/* Entry e in natural units from optimiser space (exp for log-scale
+ * entries), clamped into its bounds. */
+double bf_stage_natural(const bf_stage *st, size_t e, double x);
+
 /* One LM run from natural `start` (clamped into the bounds); fills
  * st->result, st->se, st->cost and keeps st->opt for the history. */
 brdffit_status bf_stage_lm(bf_stage *st, const double *start);
