@@ -97,7 +97,7 @@ static double peer_cost(const peer_problem *pp, const double *x)
     return c;
 }
 
-/* ---- weights, computed here from the axes (SPEC section 2) ----------------------------- */
+/* ---- weights, computed here from the axes (docs/definitions.md, Weights) ---------------------- */
 
 static size_t axis_active(const double *x, size_t n, double cap)
 {

@@ -38,7 +38,8 @@ static const double merl_scale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0}
 
 /* ---- a synthetic MERL file ---------------------------------------------------- */
 
-/* Light and view at the centre of cell (ih, id, ip), phi_h = 0 (SPEC section 9). */
+/* Light and view at the centre of cell (ih, id, ip), phi_h = 0
+ * (docs/definitions.md, MERL files). */
 static void cell_directions(size_t ih, size_t id, size_t ip, double l[3], double v[3])
 {
     double u = (ih + 0.5) / MERL_TH, th = u * u * SC_PI / 2.0;

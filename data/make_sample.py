@@ -2,7 +2,7 @@
 """Write data/sample-carpaint.csv, the sample measurement of libbrdffit.
 
 The file is SYNTHETIC: no instrument measured it. It imitates a red metallic
-car paint in the thesis's grid layout (SPEC section 2): a Lambert base, a
+car paint in the thesis's grid layout (docs/definitions.md, Geometry): a Lambert base, a
 broad Ashikhmin-Shirley lobe standing in for the metallic flakes and a sharp
 Ashikhmin-Shirley lobe standing in for the clear coat, with 1.5 %
 multiplicative Gaussian noise from a fixed seed. Only the Python standard
@@ -18,7 +18,7 @@ import sys
 
 SEED = 20170
 NOISE = 0.015  # relative standard deviation of the multiplicative noise
-FLOOR = 1e-4  # floor of the dot products, as in the library (SPEC section 2)
+FLOOR = 1e-4  # floor of the dot products, as in the library (docs/definitions.md, Geometry)
 
 CD = (0.10, 0.012, 0.010)  # Lambert base colour (times 1/pi)
 FLAKE_NS, FLAKE_CS = 35.0, (0.30, 0.05, 0.035)  # broad coloured lobe
@@ -39,7 +39,7 @@ def direction(theta_deg, phi_deg):
 
 
 def lobe(ns, nh, hv, nl, nv):
-    """Ashikhmin-Shirley specular term without colour (SPEC section 3)."""
+    """Ashikhmin-Shirley specular term without colour (docs/models.md)."""
     return (ns + 1.0) / (8.0 * math.pi) * nh ** ns / (hv * max(nl, nv))
 
 

@@ -522,7 +522,7 @@ static void test_user_model_fit(void **state)
 
 /* ---- results ------------------------------------------------------------------ */
 
-/* The error figures against the test's own sums (SPEC section 4). */
+/* The error figures against the test's own sums (docs/definitions.md, Cost and error figures). */
 static void test_error_figures(void **state)
 {
     brdffit_grid *grid = mismatched_grid();
@@ -580,7 +580,7 @@ static void test_error_figures(void **state)
     brdffit_grid_destroy(grid);
 }
 
-/* The renderer form of SPEC section 6, the history and the standard errors. */
+/* The renderer form (docs/definitions.md), the history and the standard errors. */
 static void test_shader_history_std_errors(void **state)
 {
     brdffit_grid *grid = mismatched_grid();

@@ -5,7 +5,8 @@
  *
  * A fit binds a grid and a model (both borrowed: they must outlive the fit
  * and may be shared with other fits and threads) and options; brdffit_fit_run()
- * computes the parameters that minimise the weighted cost of SPEC section 4,
+ * computes the parameters that minimise the weighted cost (docs/definitions.md,
+ * Cost and error figures),
  *
  *     cost = sum over active samples s and channels c of
  *            (w_s * (M_c(s; p) - R_c(s)))^2,
@@ -218,7 +219,7 @@ BRDFFIT_API brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit
                                              size_t channel, double *value);
 
 /**
- * @brief The renderer form of SPEC section 6 for models with diffuse and
+ * @brief The renderer form (docs/definitions.md) for models with diffuse and
  *        specular colours "cd" and "cs".
  *
  * For a model with a Fresnel parameter "Rs" the fitted Rs, cd and cs are

@@ -7,7 +7,7 @@
  * grid may be shared by any number of threads without locking, for as long
  * as no thread destroys it.
  *
- * Conventions (SPEC section 2):
+ * Conventions (docs/definitions.md, Geometry):
  * - Angles are in radians everywhere in the API (file formats and the
  *   command-line tool use degrees). Polar angles theta lie in [0, pi/2],
  *   measured from the normal n = +z; azimuths phi are measured from +x.
@@ -63,7 +63,7 @@ typedef enum brdffit_axis {
     BRDFFIT_AXIS_PHI_O = 2    /**< View azimuth, 0 .. pi. */
 } brdffit_axis;
 
-/** @brief Flags selecting the residual weights of SPEC section 2. */
+/** @brief Flags selecting the residual weights (docs/definitions.md, Weights). */
 typedef enum brdffit_weighting {
     BRDFFIT_WEIGHT_NONE = 0,        /**< Every sample weighs 1. */
     BRDFFIT_WEIGHT_SOLID_ANGLE = 1, /**< Solid angle of the view cell (regular) or the given sample weight (scattered). */
@@ -254,7 +254,7 @@ BRDFFIT_API int brdffit_grid_is_missing(const brdffit_grid *grid, size_t sample,
 BRDFFIT_API size_t brdffit_grid_active_count(const brdffit_grid *grid, double cap);
 
 /**
- * @brief The residual weight of every sample (SPEC section 2, eq. 4.25).
+ * @brief The residual weight of every sample (docs/definitions.md, Weights, eq. 4.25).
  *
  * out[s] is the factor that multiplies (measured - model) in the residual,
  * the product of two factors, each 1 when switched off by @p flags:
@@ -313,7 +313,7 @@ BRDFFIT_API brdffit_status brdffit_grid_channel_mean(brdffit_grid **out,
                                                      brdffit_error *err);
 
 /**
- * @brief A new grid with clear-coat compensation (SPEC section 2, eq. 4.20):
+ * @brief A new grid with clear-coat compensation (docs/definitions.md, eq. 4.20):
  *        every value divided by (1 - F(theta_i)), F the Schlick Fresnel
  *        term F = r0 + (1 - r0) (1 - cos theta_i)^5.
  *

@@ -1,6 +1,6 @@
 /**
  * @file image.h
- * @brief Pictures of a measurement and of a fit (SPEC section 7), rendered
+ * @brief Pictures of a measurement and of a fit (docs/definitions.md, Textures), rendered
  *        into caller-owned 8-bit RGB buffers: the texture of a regular grid
  *        (measured values, model values, their difference), a sphere lit by
  *        a point light, and a line plot of a series such as the cost per

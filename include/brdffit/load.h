@@ -1,7 +1,7 @@
 /**
  * @file load.h
- * @brief The minimal loader: CSV (SPEC section 2b) and MERL binary (SPEC
- *        section 9). The library's only file I/O.
+ * @brief The minimal loader: CSV and MERL binary files
+ *        (docs/definitions.md). The library's only file I/O.
  *
  * Every loader returns a new grid owned by the caller, or an error with a
  * message naming what is wrong and where (line and column for CSV). No
@@ -29,7 +29,7 @@ extern "C" {
 #endif
 
 /**
- * @brief Load a CSV file in either form of SPEC section 2b.
+ * @brief Load a CSV file in either form of docs/definitions.md (CSV measurements).
  *
  * The grid form (header theta_i,theta_o,phi_o,...) gives a regular grid,
  * the scattered form (theta_i,phi_i,theta_o,phi_o,...) a scattered grid.
@@ -94,7 +94,7 @@ BRDFFIT_API brdffit_status brdffit_load_csv_buffer(brdffit_grid **out, const cha
                                                    brdffit_error *err);
 
 /**
- * @brief Load a MERL binary file (SPEC section 9).
+ * @brief Load a MERL binary file (docs/definitions.md, MERL files).
  *
  * The file: three little-endian int32 (90, 90, 180), then 3 x 90 x 90 x
  * 180 little-endian doubles (red, green, blue), 34,992,012 bytes in all.

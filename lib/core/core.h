@@ -77,7 +77,7 @@ void bf_format(char *buf, size_t size, const char *fmt, ...)
 
 #define BF_PI 3.14159265358979323846
 #define BF_HALF_PI 1.57079632679489661923
-/* Floor of every clamped dot product (SPEC section 2). */
+/* Floor of every clamped dot product (docs/definitions.md, Geometry). */
 #define BF_DOT_FLOOR 1e-4
 
 #endif /* BRDFFIT_CORE_H */

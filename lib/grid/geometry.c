@@ -1,4 +1,4 @@
-/* Derived per-sample geometry (SPEC section 2): light, view and half
+/* Derived per-sample geometry (docs/definitions.md, Geometry): light, view and half
  * vectors and the guarded dot products the model kernels stream. */
 #include <math.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* Residual weights (SPEC section 2, eq. 4.25) and the angle cap: the
+/* Residual weights (docs/definitions.md, Weights, eq. 4.25) and the angle cap: the
  * streaming weight plan and brdffit_grid_weights() built on it. */
 #include <math.h>
 #include <string.h>

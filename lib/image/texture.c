@@ -1,4 +1,4 @@
-/* The texture of a regular grid (SPEC section 7): one block per theta_i,
+/* The texture of a regular grid (docs/definitions.md, Textures): one block per theta_i,
  * one row per theta_o, one column per signed view azimuth (the stored
  * quarter sphere mirrored); measured values, model values or their
  * difference. */

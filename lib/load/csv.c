@@ -1,4 +1,4 @@
-/* The CSV loader (SPEC section 2b).
+/* The CSV loader (docs/definitions.md, CSV measurements).
  *
  * Two passes over the text: the first finds the header and counts the data
  * rows, the second parses them into arrays sized by that count (so memory

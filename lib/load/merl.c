@@ -1,4 +1,4 @@
-/* The MERL binary loader (SPEC section 9).
+/* The MERL binary loader (docs/definitions.md, MERL files).
  *
  * A MERL file holds 90 x 90 x 180 cells over the half/difference angles
  * (theta_h, theta_d, phi_d) of Rusinkiewicz's parameterisation: theta_h

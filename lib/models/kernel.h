@@ -1,4 +1,4 @@
-/* The built-in model kernels (SPEC section 3). Not installed.
+/* The built-in model kernels (docs/models.md). Not installed.
  *
  * Every built-in model has the form
  *

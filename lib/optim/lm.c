@@ -1,4 +1,4 @@
-/* The Levenberg-Marquardt run loop (SPEC section 5).
+/* The Levenberg-Marquardt run loop (docs/definitions.md, The damped step).
  *
  * One iteration: compute the damped, bounded step (step.c); if it is
  * small, stop; evaluate the cost alone at the trial point; if it is lower,

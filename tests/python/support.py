@@ -1,5 +1,5 @@
 """Shared helpers of the Python binding tests: synthetic grids and an
-Ashikhmin-Shirley model written directly in numpy (SPEC section 3, eq. 4.28)."""
+Ashikhmin-Shirley model written directly in numpy (docs/models.md, eq. 4.28 of the thesis)."""
 
 import math
 
@@ -37,7 +37,7 @@ def model_grid(model, params, n_channels, axes=None):
 
 
 def geometry(theta_i, phi_i, theta_o, phi_o):
-    """The clamped dot products of SPEC section 2 for direction pairs."""
+    """The clamped dot products (docs/definitions.md, Geometry) of direction pairs."""
     l = np.stack([np.sin(theta_i) * np.cos(phi_i), np.sin(theta_i) * np.sin(phi_i),
                   np.cos(theta_i)])
     v = np.stack([np.sin(theta_o) * np.cos(phi_o), np.sin(theta_o) * np.sin(phi_o),

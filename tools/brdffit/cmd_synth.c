@@ -1,5 +1,5 @@
 /* brdffit synth: a synthetic measurement from a model, written as CSV in
- * the grid form of SPEC section 2b. */
+ * the grid form of docs/definitions.md, CSV measurements. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>

@@ -350,7 +350,7 @@ class Fit(Handle):
         return v.value
 
     def shader(self):
-        """The renderer form ``(Rs, cd, cs)`` (SPEC section 6).
+        """The renderer form ``(Rs, cd, cs)`` (docs/definitions.md, Renderer form).
 
         Raises:
             BrdffitError: ``E_UNSUPPORTED`` for a model without ``cd`` and
