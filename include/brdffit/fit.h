@@ -252,6 +252,81 @@ BRDFFIT_API size_t brdffit_fit_history(const brdffit_fit *fit, double *cost, dou
 /** @brief Passes over the samples the last run made (scan and LM together). */
 BRDFFIT_API size_t brdffit_fit_passes(const brdffit_fit *fit);
 
+/**
+ * @brief Warnings about a fitted result: signs that the parameters, although
+ *        the optimum of the cost, may not describe the material. Bit values
+ *        are fixed forever; new ones are only ever added.
+ *
+ * brdffit_fit_warnings() tests the result of the last successful run:
+ * - ::BRDFFIT_WARN_AT_BOUND: a free shape parameter (not colour, not held)
+ *   lies on a finite bound of its range, to 1e-6 relative (in log terms for
+ *   logarithmic parameters); the data may want a value outside it.
+ * - ::BRDFFIT_WARN_NO_DIFFUSE: a model with a diffuse colour "cd" and other
+ *   terms fitted cd = 0 in every channel.
+ * - ::BRDFFIT_WARN_ALBEDO: the diffuse albedo, cd (times 1 - Rs for a model
+ *   with "Rs"), exceeds 1 in some channel: more light out than in.
+ * - ::BRDFFIT_WARN_FRESNEL_VALLEY: a free Fresnel term "Rs" or "F0" above
+ *   0.99 while some colour exceeds 1: the valley of the cost where the
+ *   Fresnel term tends to 1 and the colours grow without bound.
+ * - ::BRDFFIT_WARN_ITERATION_LIMIT: the final optimizer run ended at its
+ *   iteration or evaluation limit.
+ * - ::BRDFFIT_WARN_STOPPED_EARLY: the fit was cancelled or stopped by its
+ *   callback.
+ * - ::BRDFFIT_WARN_LOBES_MERGED: a two-lobe model (shape parameters "x1"
+ *   and "x2", colours "cs1" and "cs2") whose lobes differ by less than a
+ *   factor 1.25 in shape, or one of whose lobes has colour 0 everywhere.
+ * - ::BRDFFIT_WARN_DEGREES_AS_RADIANS: every polar angle of the grid is at
+ *   most pi/2 degrees (but not all 0): angles given in radians where
+ *   degrees were expected look like this.
+ */
+typedef enum brdffit_warning {
+    BRDFFIT_WARN_AT_BOUND = 1,             /**< A free shape parameter on a bound. */
+    BRDFFIT_WARN_NO_DIFFUSE = 2,           /**< No diffuse term in any channel. */
+    BRDFFIT_WARN_ALBEDO = 4,               /**< A diffuse albedo above 1. */
+    BRDFFIT_WARN_FRESNEL_VALLEY = 8,       /**< Fresnel term -> 1 with colours above 1. */
+    BRDFFIT_WARN_ITERATION_LIMIT = 16,     /**< The final LM run hit a limit. */
+    BRDFFIT_WARN_STOPPED_EARLY = 32,       /**< Cancelled or stopped by the callback. */
+    BRDFFIT_WARN_LOBES_MERGED = 64,        /**< Two lobes that are one. */
+    BRDFFIT_WARN_DEGREES_AS_RADIANS = 128  /**< Angles that look like radians read as degrees. */
+} brdffit_warning;
+
+/**
+ * @brief The warnings (::brdffit_warning bits) about the last successful
+ *        run's result; 0 when there is none or no result.
+ *
+ * Reads the result and the grid's angles (O(samples) for a scattered grid,
+ * O(1) for a regular one); allocates nothing. Thread-safe for concurrent
+ * readers of a fit that is not running.
+ */
+BRDFFIT_API unsigned brdffit_fit_warnings(const brdffit_fit *fit);
+
+/**
+ * @brief One sentence on warning @p warning, naming the parameter, channel
+ *        and values concerned, e.g. "ns = 1e+06 is at a bound of its range
+ *        [0.001, 1e+06]".
+ * @param fit     The fit.
+ * @param warning Exactly one ::brdffit_warning bit.
+ * @param[out] buf Receives the NUL-terminated sentence (cut to @p size);
+ *                 the empty string on failure.
+ * @param size    Size of @p buf, at least 1.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_FOUND when the result does not
+ *         carry that warning; ::BRDFFIT_E_NOT_READY before a successful
+ *         run; ::BRDFFIT_E_INVALID_ARGUMENT for NULL, size 0 or not exactly
+ *         one known bit; ::BRDFFIT_E_BAD_HANDLE. Thread-safe as
+ *         brdffit_fit_warnings().
+ */
+BRDFFIT_API brdffit_status brdffit_fit_warning_text(const brdffit_fit *fit, unsigned warning,
+                                                    char *buf, size_t size);
+
+/**
+ * @brief The short name of one warning bit ("at-bound", "no-diffuse",
+ *        "albedo-above-1", "fresnel-valley", "iteration-limit",
+ *        "stopped-early", "lobes-merged", "radians-as-degrees"), as the
+ *        command's JSON output uses them; NULL unless @p warning is exactly
+ *        one known bit. The strings are static. Thread-safe.
+ */
+BRDFFIT_API const char *brdffit_warning_name(unsigned warning);
+
 #ifdef __cplusplus
 }
 #endif
