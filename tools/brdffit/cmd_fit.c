@@ -32,9 +32,12 @@ static const char fit_help[] =
     "                        must contain %s, replaced by each file's base name\n"
     "  --gain G              brightness of the preview textures; default 3\n"
     "  --gamma G             gamma of the preview pictures; default 2.2\n"
+    "  --strict              a fit with warnings (parameter at a bound, albedo\n"
+    "                        above 1, iteration limit, ...) counts as failed\n"
     "\n"
-    "Exit status: 0 when every file was fitted, 1 when some failed, 2 for usage\n"
-    "errors.\n";
+    "Warnings about a fit go to standard error, and into the summary and JSON.\n"
+    "Exit status: 0 when every file was fitted, 1 when some failed (or, with\n"
+    "--strict, has warnings), 2 for usage errors.\n";
 
 typedef struct fit_opts {
     const char *model_name, *start_text, *csv_path, *preview;
@@ -42,7 +45,7 @@ typedef struct fit_opts {
     double cap, clearcoat, gain, gamma;
     unsigned weighting;
     size_t threads, max_iterations;
-    int json;
+    int json, strict;
 } fit_opts;
 
 /* Shared by the workers; the mutex guards next, done and n_done. */
@@ -93,6 +96,20 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
     return r->error[0] != '\0' ? -1 : 0;
 }
 
+static void collect_warnings(const brdffit_fit *fit, fit_result *r)
+{
+    unsigned all = brdffit_fit_warnings(fit), bit;
+    r->n_warnings = 0;
+    for (bit = 1; bit != 0 && r->n_warnings < CLI_MAX_WARNINGS; bit <<= 1) {
+        fit_warning *w = &r->warnings[r->n_warnings];
+        if (!(all & bit)) continue;
+        w->bit = bit;
+        if (brdffit_fit_warning_text(fit, bit, w->text, sizeof w->text) != BRDFFIT_OK)
+            w->text[0] = '\0';
+        r->n_warnings++;
+    }
+}
+
 static int collect(brdffit_fit *fit, fit_result *r)
 {
     size_t nc = r->n_channels;
@@ -111,6 +128,7 @@ static int collect(brdffit_fit *fit, fit_result *r)
     r->has_shader = brdffit_fit_shader(fit, &r->rs, r->shader_cd, r->shader_cs) == BRDFFIT_OK;
     r->iterations = brdffit_fit_iterations(fit);
     r->stop = brdffit_fit_stop_reason(fit);
+    collect_warnings(fit, r);
     r->fitted = 1;
     return 0;
 }
@@ -246,10 +264,11 @@ static int output(const fit_run *run, fit_result *r, int show_progress)
 {
     char msg[CLI_MSG_SIZE];
     cli_buf b;
-    int ok = r->fitted && r->error[0] == '\0';
+    int ok = r->fitted && r->error[0] == '\0' && !(run->opts->strict && r->n_warnings > 0);
     cli_buf_init(&b);
     if (show_progress) progress(run, 0, 1);
     if (r->error[0] != '\0') cli_error(r->path, "%s", r->error);
+    fit_warnings_report(r);
     if (run->opts->json)
         fit_json(&b, r);
     else if (r->fitted)
@@ -378,6 +397,8 @@ static int option_flag(fit_opts *o, const char *name)
     }
     if (strcmp(name, "json") == 0)
         o->json = 1;
+    else if (strcmp(name, "strict") == 0)
+        o->strict = 1;
     else if (strcmp(name, "no-solid-angle") == 0)
         o->weighting &= ~(unsigned)BRDFFIT_WEIGHT_SOLID_ANGLE;
     else if (strcmp(name, "no-cosine") == 0)
@@ -394,7 +415,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1},
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
-                                         {NULL, 0}};
+                                         {"strict", 0},    {NULL, 0}};
     cli_args a;
     const char *name, *value;
     int r, n_files = 0;

@@ -92,7 +92,18 @@ void fit_summary(cli_buf *b, const fit_result *r)
     cli_buf_printf(b, "  %-12se %.6g, E %.6g, cost %.6g\n", "errors", r->rms, r->ngan, r->cost);
     cli_buf_printf(b, "  %-12s%zu (%s)\n", "iterations", r->iterations,
                    brdffit_stop_reason_string(r->stop));
+    for (k = 0; k < r->n_warnings; k++)
+        cli_buf_printf(b, "  %-12s%s: %s\n", k == 0 ? "warnings" : "",
+                       brdffit_warning_name(r->warnings[k].bit), r->warnings[k].text);
     cli_buf_printf(b, "  %-12s%.0f ms\n", "fit time", r->fit_ms);
+}
+
+void fit_warnings_report(const fit_result *r)
+{
+    size_t k;
+    for (k = 0; k < r->n_warnings; k++)
+        cli_error(r->path, "warning: %s (%s)", r->warnings[k].text,
+                  brdffit_warning_name(r->warnings[k].bit));
 }
 
 /* --- JSON -------------------------------------------------------------------------- */
@@ -143,6 +154,21 @@ static void json_failure(cli_buf *b, const fit_result *r)
     cli_buf_puts(b, "}}\n");
 }
 
+/* "warnings": [{"name": ..., "text": ...}, ...] */
+static void json_warnings(cli_buf *b, const fit_result *r)
+{
+    size_t k;
+    cli_buf_puts(b, ", \"warnings\": [");
+    for (k = 0; k < r->n_warnings; k++) {
+        cli_buf_puts(b, k ? ", {\"name\": " : "{\"name\": ");
+        cli_buf_json_string(b, brdffit_warning_name(r->warnings[k].bit));
+        cli_buf_puts(b, ", \"text\": ");
+        cli_buf_json_string(b, r->warnings[k].text);
+        cli_buf_puts(b, "}");
+    }
+    cli_buf_puts(b, "]");
+}
+
 void fit_json(cli_buf *b, const fit_result *r)
 {
     if (!r->fitted) {
@@ -182,7 +208,9 @@ void fit_json(cli_buf *b, const fit_result *r)
     json_params(b, r, r->se);
     cli_buf_puts(b, ", \"source\": ");
     cli_buf_json_string(b, r->source);
-    cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu}\n", r->n_samples, r->n_active);
+    cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu", r->n_samples, r->n_active);
+    json_warnings(b, r);
+    cli_buf_puts(b, "}\n");
 }
 
 /* --- CSV ------------------------------------------------------------------------ */
@@ -218,7 +246,7 @@ void fit_csv_header(cli_buf *b, const fit_result *r)
         for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cd_%zu", c);
         for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cs_%zu", c);
     }
-    cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms");
+    cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms,warnings");
 }
 
 static void csv_number(cli_buf *b, double x)
@@ -263,5 +291,8 @@ void fit_csv_row(cli_buf *b, const fit_result *r)
     csv_number(b, r->cost);
     cli_buf_printf(b, ",%zu,%s", r->iterations, cli_stop_token(r->stop));
     csv_number(b, r->fit_ms);
+    cli_buf_puts(b, ",");
+    for (c = 0; c < r->n_warnings; c++)
+        cli_buf_printf(b, "%s%s", c ? ";" : "", brdffit_warning_name(r->warnings[c].bit));
     cli_buf_puts(b, "\n");
 }

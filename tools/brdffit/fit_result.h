@@ -4,6 +4,14 @@
 
 #include "cli.h"
 
+/* Room for every warning bit the library defines, and more. */
+#define CLI_MAX_WARNINGS 16
+
+typedef struct fit_warning {
+    unsigned bit;   /* one brdffit_warning */
+    char text[256]; /* brdffit_fit_warning_text() */
+} fit_warning;
+
 typedef struct fit_result {
     const char *path;
     const char *source; /* what cli_load() said about the file */
@@ -20,6 +28,8 @@ typedef struct fit_result {
     size_t iterations;
     brdffit_stop_reason stop;
     double fit_ms;
+    fit_warning warnings[CLI_MAX_WARNINGS];
+    size_t n_warnings;
 } fit_result;
 
 void fit_result_free(fit_result *r);
@@ -30,5 +40,9 @@ void fit_summary(cli_buf *b, const fit_result *r);
 void fit_json(cli_buf *b, const fit_result *r);
 void fit_csv_header(cli_buf *b, const fit_result *r);
 void fit_csv_row(cli_buf *b, const fit_result *r);
+
+/* The warnings of a fitted result, one "brdffit: FILE: warning: ..." line
+ * each, on standard error. */
+void fit_warnings_report(const fit_result *r);
 
 #endif /* BRDFFIT_CLI_FIT_RESULT_H */
