@@ -71,4 +71,32 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights);
 
+/* ---- what other layers read of a grid (derived.c) ------------------------- */
+
+/* Whether any value of the grid is marked missing. */
+int bf_grid_has_missing(const brdffit_grid *g);
+
+/* The geometry of samples [first, first + count) as a batch. */
+void bf_grid_batch(const brdffit_grid *g, size_t first, size_t count, brdffit_batch *out);
+
+/* Measured values of channel c for samples [first, first + n) into meas,
+ * and 1 (present) or 0 (missing) into present. */
+void bf_grid_load_channel(const brdffit_grid *g, size_t c, size_t first, size_t n, double *meas,
+                          double *present);
+
+/* The channel mean of samples [first, first + n): the mean of each
+ * sample's present values into meas (0 when none is present) and 1 or 0
+ * into present. */
+void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *meas,
+                       double *present);
+
+/* Largest value of any channel over samples [first, first + n) (missing
+ * values are stored as 0), at least 0. */
+double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n);
+
+/* Clear-coat compensation factor 1 / (1 - F(theta_i)), F Schlick's
+ * approximation with reflectance r0 at normal incidence and cos theta_i
+ * clamped to [BF_DOT_FLOOR, 1] (docs/definitions.md). */
+double bf_grid_coat_factor(double r0, double cos_i);
+
 #endif /* BRDFFIT_GRID_INTERNAL_H */
