@@ -72,11 +72,25 @@ static brdffit_status auto_fail(bf_stage *st, brdffit_status status)
     return bf_stage_fail(st, status, "auto fit");
 }
 
+/* Variable projection solves at most BF_LSQ_MAX linear parameters. */
+static brdffit_status check_projectable(bf_run *run)
+{
+    bf_layout ly;
+    bf_layout_init(&ly, run->fit->model, run->fit->nc);
+    if (bf_layout_projectable(&ly)) return BRDFFIT_OK;
+    return bf_say(run->result->message, BRDFFIT_E_UNSUPPORTED,
+                  "the auto pipeline solves at most %d linear parameters exactly; model '%s' "
+                  "has %zu (use the joint or two-stage pipeline)",
+                  BF_LSQ_MAX, brdffit_model_name(run->fit->model), ly.n_linear);
+}
+
 brdffit_status bf_pipeline_auto(bf_run *run)
 {
     bf_stage st;
     bf_scan sc;
-    brdffit_status status = bf_stage_init(&st, run, run->fit->nc, BF_SOURCE_CHANNELS, 0, 0);
+    brdffit_status status = check_projectable(run);
+    if (status != BRDFFIT_OK) return status;
+    status = bf_stage_init(&st, run, run->fit->nc, BF_SOURCE_CHANNELS, 0, 0);
     if (status != BRDFFIT_OK) return status;
     status = bf_scan_run(&st, &sc);
     if (status == BRDFFIT_OK) status = polish_all(&st, &sc);

@@ -8,9 +8,11 @@ void bf_layout_init(bf_layout *ly, const brdffit_model *model, size_t nc)
     ly->n_params = brdffit_model_param_count(model);
     ly->n_vec = brdffit_model_vector_size(model, nc);
     ly->n_linear = 0;
-    for (k = 0; k < ly->n_params && ly->n_linear < BF_LSQ_MAX; k++)
-        if (brdffit_model_param(model, k)->flags & BRDFFIT_PARAM_LINEAR)
-            ly->linear[ly->n_linear++] = k;
+    for (k = 0; k < ly->n_params; k++) {
+        if (!(brdffit_model_param(model, k)->flags & BRDFFIT_PARAM_LINEAR)) continue;
+        if (ly->n_linear < BF_LSQ_MAX) ly->linear[ly->n_linear] = k;
+        ly->n_linear++;
+    }
 }
 
 void bf_layout_entries(const bf_layout *ly, const brdffit_model *model, size_t *vindex,

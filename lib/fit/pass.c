@@ -235,21 +235,16 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
 
 brdffit_status bf_count_rows(const bf_problem *pb, size_t *rows, brdffit_error *err)
 {
-    double w[BF_CHUNK], meas[BF_CHUNK], present[BF_CHUNK];
-    size_t ci, first, n, m, s, count = 0;
+    size_t m;
     (void)err;
-    for (ci = 0; ci < pb->plan->n_chunks; ci++) {
-        bf_weight_plan_chunk(pb->plan, ci, &first, &n, w);
-        for (m = 0; m < pb->nc; m++) {
-            if (pb->source == BF_SOURCE_MEAN)
-                bf_grid_load_mean(pb->grid, first, n, meas, present);
-            else
-                bf_grid_load_channel(pb->grid,
-                                     pb->source == BF_SOURCE_ONE_CHANNEL ? pb->source_channel : m,
-                                     first, n, meas, present);
-            for (s = 0; s < n; s++) count += present[s] != 0.0 && w[s] != 0.0;
-        }
+    if (pb->source == BF_SOURCE_MEAN) {
+        *rows = pb->nc * bf_grid_count_rows(pb->plan, BF_GRID_MEAN);
+        return BRDFFIT_OK;
     }
-    *rows = count;
+    if (pb->source == BF_SOURCE_ONE_CHANNEL) {
+        *rows = pb->nc * bf_grid_count_rows(pb->plan, pb->source_channel);
+        return BRDFFIT_OK;
+    }
+    for (*rows = 0, m = 0; m < pb->nc; m++) *rows += bf_grid_count_rows(pb->plan, m);
     return BRDFFIT_OK;
 }

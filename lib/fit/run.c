@@ -55,6 +55,16 @@ static brdffit_status check_scale(bf_run *run)
                   top, BF_FIT_VALUE_MIN, BF_FIT_VALUE_MAX);
 }
 
+/* Nothing to fit: every value with a non-zero weight inside the cap is
+ * missing (or the cap leaves no sample). */
+static brdffit_status check_rows(bf_run *run)
+{
+    if (bf_grid_count_rows(&run->plan, BF_GRID_EVERY_CHANNEL) > 0) return BRDFFIT_OK;
+    return bf_say(run->result->message, BRDFFIT_E_NO_DATA,
+                  "no measured value inside the cap: every value with a non-zero weight there "
+                  "is missing");
+}
+
 /* Helper threads for the run: one per pass block beyond the caller's. */
 static size_t helper_count(const bf_run *run)
 {
@@ -99,6 +109,7 @@ brdffit_status bf_run_fit(brdffit_fit *fit, bf_result *out)
     run.result = out;
     BF_RETURN_IF_ERROR(make_plans(&run));
     status = check_scale(&run);
+    if (status == BRDFFIT_OK) status = check_rows(&run);
     if (status == BRDFFIT_OK) status = run_stages(&run);
     bf_weight_plan_free(&run.plan, &fit->alloc);
     bf_weight_plan_free(&run.plan_sa, &fit->alloc);

@@ -233,6 +233,17 @@ static void collect(bf_stage *st, const double *x, double *params, double *se)
         if (st->logs[e]) se[e] *= params[e];
 }
 
+/* The stage's channel has no value to fit (the run checked that some
+ * channel has). */
+static brdffit_status no_rows(bf_stage *st)
+{
+    char *message = st->run->result->message;
+    if (st->pb.source == BF_SOURCE_ONE_CHANNEL)
+        return bf_say(message, BRDFFIT_E_NO_DATA,
+                      "channel %zu has no measured value inside the cap", st->pb.source_channel);
+    return bf_say(message, BRDFFIT_E_NO_DATA, "no measured value inside the cap");
+}
+
 brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, double *se)
 {
     brdffit_fit *fit = st->run->fit;
@@ -244,7 +255,7 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     status = brdffit_optimizer_create(&st->opt, st->n, &fit->alloc, NULL);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "creating the optimizer");
     bf_count_rows(&st->pb, &rows, NULL);
-    if (rows == 0) return bf_stage_fail(st, BRDFFIT_E_NO_DATA, "no measured value inside the cap");
+    if (rows == 0) return no_rows(st);
     status = configure(st, rows);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "configuring the optimizer");
     to_optimiser(st, start, st->x);

@@ -63,3 +63,29 @@ double bf_grid_coat_factor(double r0, double cos_i)
     double m = 1.0 - c, m5 = m * m * m * m * m;
     return 1.0 / ((1.0 - r0) * (1.0 - m5));
 }
+
+/* Present values of the selected channel (see bf_grid_count_rows) for
+ * samples [first, first + n) into present. */
+static void load_present(const brdffit_grid *g, size_t channel, size_t first, size_t n,
+                         double *meas, double *present)
+{
+    if (channel == BF_GRID_MEAN) bf_grid_load_mean(g, first, n, meas, present);
+    else bf_grid_load_channel(g, channel, first, n, meas, present);
+}
+
+size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
+{
+    const brdffit_grid *g = plan->grid;
+    double w[BF_CHUNK], meas[BF_CHUNK], present[BF_CHUNK];
+    size_t ci, first, n, c, s, count = 0;
+    size_t c0 = channel == BF_GRID_EVERY_CHANNEL ? 0 : channel;
+    size_t c1 = channel == BF_GRID_EVERY_CHANNEL ? g->n_channels : c0 + 1;
+    for (ci = 0; ci < plan->n_chunks; ci++) {
+        bf_weight_plan_chunk(plan, ci, &first, &n, w);
+        for (c = c0; c < c1; c++) {
+            load_present(g, channel == BF_GRID_MEAN ? BF_GRID_MEAN : c, first, n, meas, present);
+            for (s = 0; s < n; s++) count += present[s] != 0.0 && w[s] != 0.0;
+        }
+    }
+    return count;
+}

@@ -99,4 +99,13 @@ double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n);
  * clamped to [BF_DOT_FLOOR, 1] (docs/definitions.md). */
 double bf_grid_coat_factor(double r0, double cos_i);
 
+/* Channel selectors of bf_grid_count_rows() besides a channel index. */
+#define BF_GRID_EVERY_CHANNEL ((size_t)-1)
+#define BF_GRID_MEAN ((size_t)-2)
+
+/* Rows of a fit over the plan's samples: the values with a non-zero
+ * weight and present, of one channel, of every channel, or of the channel
+ * mean (BF_GRID_MEAN: a sample counts once when any channel is present). */
+size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel);
+
 #endif /* BRDFFIT_GRID_INTERNAL_H */
