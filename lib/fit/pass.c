@@ -117,7 +117,8 @@ static void load_measured(const bf_problem *pb, const brdffit_batch *batch, size
                                  pb->source == BF_SOURCE_ONE_CHANNEL ? pb->source_channel : m,
                                  first, n, meas, pres);
         if (pb->clearcoat > 0.0)
-            for (s = 0; s < n; s++) meas[s] *= bf_grid_coat_factor(pb->clearcoat, batch->lz[s]);
+            for (s = 0; s < n; s++)
+                meas[s] *= 1.0 / bf_grid_coat_divisor(pb->clearcoat, batch->lz[s]);
     }
 }
 

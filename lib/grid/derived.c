@@ -1,7 +1,8 @@
-/* What other layers read of a grid, through functions rather than its
- * fields: channel values with their presence, the channel mean, the
- * clear-coat divisor and the geometry of a run of samples. See
- * grid_internal.h. */
+/* The values derived from a grid, computed here only: channel values with
+ * their presence, the channel mean, the clear-coat divisor, the rows of a
+ * fit; used by the derived grids of grid.c and by the fit's passes alike.
+ * Also what other layers read of a grid, through functions rather than its
+ * fields. See grid_internal.h. */
 #include <math.h>
 #include <string.h>
 
@@ -31,21 +32,32 @@ void bf_grid_load_channel(const brdffit_grid *g, size_t c, size_t first, size_t 
     for (s = 0; s < n; s++) present[s] = g->missing[c * g->n_samples + first + s] ? 0.0 : 1.0;
 }
 
+size_t bf_grid_sample_mean(const brdffit_grid *g, size_t s, double *mean)
+{
+    size_t c, n = 0;
+    double sum = 0.0;
+    for (c = 0; c < g->n_channels; c++) {
+        if (g->missing != NULL && g->missing[c * g->n_samples + s]) continue;
+        sum += g->values[c * g->n_samples + s];
+        n++;
+    }
+    if (n > 0 && !isfinite(sum)) { /* overflow: average the scaled values */
+        sum = 0.0;
+        for (c = 0; c < g->n_channels; c++)
+            if (g->missing == NULL || !g->missing[c * g->n_samples + s])
+                sum += g->values[c * g->n_samples + s] / (double)n;
+        *mean = sum;
+        return n;
+    }
+    *mean = n > 0 ? sum / (double)n : 0.0;
+    return n;
+}
+
 void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *meas,
                        double *present)
 {
-    size_t s, c;
-    for (s = 0; s < n; s++) {
-        double sum = 0.0, count = 0.0;
-        for (c = 0; c < g->n_channels; c++) {
-            size_t at = c * g->n_samples + first + s;
-            if (g->missing != NULL && g->missing[at]) continue;
-            sum += g->values[at];
-            count += 1.0;
-        }
-        meas[s] = count > 0.0 ? sum / count : 0.0;
-        present[s] = count > 0.0 ? 1.0 : 0.0;
-    }
+    size_t s;
+    for (s = 0; s < n; s++) present[s] = bf_grid_sample_mean(g, first + s, &meas[s]) ? 1.0 : 0.0;
 }
 
 double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n)
@@ -55,13 +67,6 @@ double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n)
     for (c = 0; c < g->n_channels; c++)
         for (s = first; s < first + n; s++) top = fmax(top, g->values[c * g->n_samples + s]);
     return top;
-}
-
-double bf_grid_coat_factor(double r0, double cos_i)
-{
-    double c = cos_i < BF_DOT_FLOOR ? BF_DOT_FLOOR : (cos_i > 1.0 ? 1.0 : cos_i);
-    double m = 1.0 - c, m5 = m * m * m * m * m;
-    return 1.0 / ((1.0 - r0) * (1.0 - m5));
 }
 
 /* Present values of the selected channel (see bf_grid_count_rows) for
