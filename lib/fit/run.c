@@ -59,7 +59,7 @@ static brdffit_status check_scale(bf_run *run)
  * missing (or the cap leaves no sample). */
 static brdffit_status check_rows(bf_run *run)
 {
-    if (bf_grid_count_rows(&run->plan, BF_GRID_EVERY_CHANNEL) > 0) return BRDFFIT_OK;
+    if (bf_grid_has_rows(&run->plan)) return BRDFFIT_OK;
     return bf_say(run->result->message, BRDFFIT_E_NO_DATA,
                   "no measured value inside the cap: every value with a non-zero weight there "
                   "is missing");

@@ -78,14 +78,15 @@ static void load_present(const brdffit_grid *g, size_t channel, size_t first, si
     else bf_grid_load_channel(g, channel, first, n, meas, present);
 }
 
-size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
+/* Rows of the selected channel(s), counting stops once `limit` is passed. */
+static size_t count_rows(const bf_weight_plan *plan, size_t channel, size_t limit)
 {
     const brdffit_grid *g = plan->grid;
     double w[BF_CHUNK], meas[BF_CHUNK], present[BF_CHUNK];
     size_t ci, first, n, c, s, count = 0;
     size_t c0 = channel == BF_GRID_EVERY_CHANNEL ? 0 : channel;
     size_t c1 = channel == BF_GRID_EVERY_CHANNEL ? g->n_channels : c0 + 1;
-    for (ci = 0; ci < plan->n_chunks; ci++) {
+    for (ci = 0; ci < plan->n_chunks && count <= limit; ci++) {
         bf_weight_plan_chunk(plan, ci, &first, &n, w);
         for (c = c0; c < c1; c++) {
             load_present(g, channel == BF_GRID_MEAN ? BF_GRID_MEAN : c, first, n, meas, present);
@@ -93,4 +94,14 @@ size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
         }
     }
     return count;
+}
+
+size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
+{
+    return count_rows(plan, channel, (size_t)-1);
+}
+
+int bf_grid_has_rows(const bf_weight_plan *plan)
+{
+    return count_rows(plan, BF_GRID_EVERY_CHANNEL, 0) > 0;
 }

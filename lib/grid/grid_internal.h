@@ -120,4 +120,7 @@ static inline double bf_grid_coat_divisor(double r0, double cos_i)
  * mean (BF_GRID_MEAN: a sample counts once when any channel is present). */
 size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel);
 
+/* Whether the plan has a row of any channel (stops at the first). */
+int bf_grid_has_rows(const bf_weight_plan *plan);
+
 #endif /* BRDFFIT_GRID_INTERNAL_H */
