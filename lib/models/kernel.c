@@ -1,5 +1,7 @@
 /* Assembly of values and Jacobians from the basis blocks of a kernel: the
- * per-channel part of every built-in model, plain multiply-adds only. */
+ * per-channel part of every built-in model, plain multiply-adds only; and
+ * the accessor functions through which other layers read a kernel
+ * (models/basis.h). */
 #include <string.h>
 
 #include "models/kernel.h"
