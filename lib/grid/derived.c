@@ -56,8 +56,25 @@ size_t bf_grid_sample_mean(const brdffit_grid *g, size_t s, double *mean)
 void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *meas,
                        double *present)
 {
-    size_t s;
-    for (s = 0; s < n; s++) present[s] = bf_grid_sample_mean(g, first + s, &meas[s]) ? 1.0 : 0.0;
+    size_t s, c;
+    if (g->missing != NULL) {
+        for (s = 0; s < n; s++)
+            present[s] = bf_grid_sample_mean(g, first + s, &meas[s]) ? 1.0 : 0.0;
+        return;
+    }
+    /* Nothing missing: bf_grid_sample_mean's sums in the same order, one
+     * channel row at a time (so the loops vectorise), and the sample's own
+     * call where a sum overflows. */
+    for (s = 0; s < n; s++) meas[s] = 0.0;
+    for (c = 0; c < g->n_channels; c++) {
+        const double *v = g->values + c * g->n_samples + first;
+        for (s = 0; s < n; s++) meas[s] += v[s];
+    }
+    for (s = 0; s < n; s++) {
+        present[s] = 1.0;
+        if (isfinite(meas[s])) meas[s] /= (double)g->n_channels;
+        else bf_grid_sample_mean(g, first + s, &meas[s]);
+    }
 }
 
 double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n)
