@@ -114,7 +114,7 @@ static void *xmalloc(size_t n, size_t size)
 
 static brdffit_status setup_problem(core_case *cc)
 {
-    size_t k, m, n_acc;
+    size_t n_acc;
     bf_problem *pb = &cc->pb;
     BH_TRY(bf_weight_plan_init(&cc->plan, cc->grid, cc->cap, BRDFFIT_WEIGHT_DEFAULT, &cc->alloc,
                                &cc->err));
@@ -125,15 +125,11 @@ static brdffit_status setup_problem(core_case *cc)
     pb->plan_sa = &cc->plan;
     pb->nc = cc->nc;
     pb->source = BF_SOURCE_CHANNELS;
-    pb->n_vec = cc->n_vec;
     pb->threads = 1;
-    for (k = 0; k < cc->n_params && pb->n_linear < 16; k++)
-        if (brdffit_model_param(cc->model, k)->flags & BRDFFIT_PARAM_LINEAR)
-            pb->linear[pb->n_linear++] = k;
-    for (k = 0; k < cc->n_params; k++)
-        for (m = 0; m < cc->nc; m++)
-            cc->vindex[k * cc->nc + m] = brdffit_model_vector_index(cc->model, k, m, cc->nc);
+    bf_layout_init(&pb->ly, cc->model, cc->nc);
+    bf_layout_entries(&pb->ly, cc->model, cc->vindex, NULL);
     pb->vindex = cc->vindex;
+    bf_pass_prepare(pb);
     n_acc = bf_pass_acc_size(pb, BF_PASS_NORMAL);
     if (bf_pass_acc_size(pb, BF_PASS_VARPRO) > n_acc) n_acc = bf_pass_acc_size(pb, BF_PASS_VARPRO);
     cc->acc = xmalloc(n_acc, sizeof(double));
@@ -344,7 +340,7 @@ static int measure_case(const bh_options *opt, core_case *cc, figures *f)
     for (k = 0; k < K_COUNT; k++) {
         size_t reps = bh_repeats(opt, is_naive((measure_kind)k) ? 11 : 21);
         if (is_naive((measure_kind)k) && cc->naive == NULL) continue;
-        if (k == K_VARPRO && cc->pb.n_linear == 0) continue;
+        if (k == K_VARPRO && cc->pb.ly.n_linear == 0) continue;
         if (bh_measure(runs[k], cc, warm, reps, &f->st[k]) != 0) return 0;
         f->have[k] = 1;
     }

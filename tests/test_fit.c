@@ -710,6 +710,144 @@ static void test_all_missing(void **state)
     free(missing);
 }
 
+/* Every value missing, every pipeline: found before any pass over the
+ * samples and worded (auto said "auto fit: " and joint "no measured value
+ * inside the cap: " with nothing after the colon). */
+static void test_all_missing_message(void **state)
+{
+    const brdffit_axes *axes = brdffit_axes_default();
+    size_t n = axes->n_theta_i * axes->n_theta_o * axes->n_phi_o;
+    double *values = calloc(n, sizeof *values);
+    unsigned char *missing = malloc(n);
+    brdffit_grid *grid = NULL;
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    brdffit_fit *fit;
+    int pipeline;
+    (void)state;
+    assert_non_null(values);
+    assert_non_null(missing);
+    memset(missing, 1, n);
+    assert_int_equal(brdffit_grid_create_regular(&grid, axes, 1, values, missing, NULL, NULL),
+                     BRDFFIT_OK);
+    fit = make_fit(grid, model);
+    for (pipeline = 0; pipeline < 3; pipeline++) {
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, pipeline), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_run(fit), BRDFFIT_E_NO_DATA);
+        assert_string_equal(brdffit_fit_message(fit),
+                            "no measured value inside the cap: every value with a non-zero "
+                            "weight there is missing");
+        assert_int_equal(brdffit_fit_passes(fit), 0);
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(model);
+    brdffit_grid_destroy(grid);
+    free(values);
+    free(missing);
+}
+
+/* Two-stage with one channel wholly missing: the other channels have data,
+ * so stage 1 runs, and the channel's stage 2 names the channel (it said
+ * "no measured value inside the cap: "). */
+static void test_one_channel_missing_message(void **state)
+{
+    const brdffit_axes *axes = brdffit_axes_default();
+    size_t n = axes->n_theta_i * axes->n_theta_o * axes->n_phi_o;
+    double *values = calloc(3 * n, sizeof *values);
+    unsigned char *missing = calloc(3 * n, 1);
+    brdffit_grid *grid = NULL;
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    brdffit_fit *fit;
+    size_t s;
+    (void)state;
+    assert_non_null(values);
+    assert_non_null(missing);
+    for (s = 0; s < n; s++) {
+        values[3 * s] = values[3 * s + 2] = 0.1;
+        missing[3 * s + 1] = 1;
+    }
+    assert_int_equal(brdffit_grid_create_regular(&grid, axes, 3, values, missing, NULL, NULL),
+                     BRDFFIT_OK);
+    fit = make_fit(grid, model);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_TWO_STAGE),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_E_NO_DATA);
+    assert_string_equal(brdffit_fit_message(fit), "channel 1 has no measured value inside the cap");
+    assert_true(brdffit_fit_passes(fit) > 0); /* stage 1 ran */
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(model);
+    brdffit_grid_destroy(grid);
+    free(values);
+    free(missing);
+}
+
+/* A user model with 17 linear parameters: value = sum_q p_q (n.h)^q. */
+#define LIN17 17
+static brdffit_status lin17_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                 double *values, double *jac, void *user)
+{
+    size_t s, c, q, n = b->n;
+    (void)user;
+    for (s = 0; s < n; s++)
+        for (c = 0; c < nc; c++) {
+            double term = 1.0, v = 0.0;
+            for (q = 0; q < LIN17; q++) {
+                v += p[q * nc + c] * term;
+                if (jac != NULL) jac[(q * nc + c) * n + s] = term;
+                term *= b->nh[s];
+            }
+            values[c * n + s] = v;
+        }
+    return BRDFFIT_OK;
+}
+
+/* The auto pipeline solves at most 16 linear parameters exactly: a model
+ * with 17 is refused up front with a message naming the limit (it used to
+ * run and return BRDFFIT_OK, the 17th left at its start value during the
+ * scan), while joint fits it. */
+static void test_auto_refuses_17_linear_parameters(void **state)
+{
+    brdffit_param_info params[LIN17];
+    char names[LIN17][8];
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *model = NULL;
+    double truth_p[LIN17], got[LIN17];
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    size_t q;
+    (void)state;
+    for (q = 0; q < LIN17; q++) {
+        snprintf(names[q], sizeof names[q], "c%zu", q);
+        params[q].name = names[q];
+        params[q].flags = BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR;
+        params[q].lower = 0.0;
+        params[q].upper = HUGE_VAL;
+        params[q].start = 0.1;
+        truth_p[q] = q == 0 ? 0.2 : (q == LIN17 - 1 ? 0.5 : 0.0);
+    }
+    def.name = "lin17";
+    def.n_params = LIN17;
+    def.params = params;
+    def.eval = lin17_eval;
+    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
+    grid = fx_grid_from_model(model, truth_p, 1, NULL, 0.0, 1);
+    assert_non_null(grid);
+    fit = make_fit(grid, model);
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_E_UNSUPPORTED);
+    assert_string_equal(brdffit_fit_message(fit),
+                        "the auto pipeline solves at most 16 linear parameters exactly; "
+                        "model 'lin17' has 17 (use the joint or two-stage pipeline)");
+    assert_int_equal(brdffit_fit_passes(fit), 0);
+    assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_E_NOT_READY);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT),
+                     BRDFFIT_OK);
+    run_ok(fit);
+    assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_OK);
+    for (q = 0; q < LIN17; q++) assert_true(got[q] >= 0.0 && isfinite(got[q]));
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
 /* Fail the Nth allocation of create + run for every N until both succeed:
  * each failure is BRDFFIT_E_OUT_OF_MEMORY and leaks nothing. */
 static void test_allocation_failures(void **state)
@@ -787,6 +925,9 @@ int main(void)
         cmocka_unit_test(test_fresnel_converges_on_mismatched_data),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_all_missing),
+        cmocka_unit_test(test_all_missing_message),
+        cmocka_unit_test(test_one_channel_missing_message),
+        cmocka_unit_test(test_auto_refuses_17_linear_parameters),
         cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_cancel_and_callback),
     };

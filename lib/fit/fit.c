@@ -5,8 +5,9 @@
 
 #include "core/core.h"
 #include "fit/fit_internal.h"
+#include "fit/run.h"
 #include "grid/grid_internal.h"
-#include "models/model_internal.h"
+#include "models/models.h"
 
 #define BF_FIT_MAX_THREADS 64
 
@@ -17,28 +18,28 @@ static int fit_ok(const brdffit_fit *fit)
 
 static brdffit_status fit_fail(brdffit_fit *fit, brdffit_status status, const char *what)
 {
-    bf_format(fit->message, sizeof fit->message, "%s", what);
-    return status;
+    return bf_say(fit->message, status, "%s", what);
 }
 
 static void fit_free_arrays(brdffit_fit *fit)
 {
     bf_free(&fit->alloc, fit->start);
     bf_free(&fit->alloc, fit->fixed);
-    bf_free(&fit->alloc, fit->params);
-    bf_free(&fit->alloc, fit->history);
+    bf_free(&fit->alloc, fit->result.params);
+    bf_free(&fit->alloc, fit->result.history);
 }
 
 static brdffit_status fit_alloc_arrays(brdffit_fit *fit)
 {
-    size_t np = fit->model->n_params;
+    size_t np = brdffit_model_param_count(fit->model);
+    bf_result *r = &fit->result;
     fit->start = bf_calloc(&fit->alloc, fit->n_vec, sizeof(double));
     fit->fixed = bf_calloc(&fit->alloc, np, 1);
-    fit->params = bf_calloc(&fit->alloc, 2 * fit->n_vec + 4 * fit->nc, sizeof(double));
-    if (fit->start == NULL || fit->fixed == NULL || fit->params == NULL)
+    r->params = bf_calloc(&fit->alloc, 2 * fit->n_vec + 4 * fit->nc, sizeof(double));
+    if (fit->start == NULL || fit->fixed == NULL || r->params == NULL)
         return BRDFFIT_E_OUT_OF_MEMORY;
-    fit->std_errors = fit->params + fit->n_vec;
-    fit->metrics = fit->params + 2 * fit->n_vec;
+    r->std_errors = r->params + fit->n_vec;
+    r->metrics = r->params + 2 * fit->n_vec;
     return BRDFFIT_OK;
 }
 
@@ -53,8 +54,8 @@ static void fit_defaults(brdffit_fit *fit)
     fit->max_iterations = 200;
     fit->damping = *brdffit_damping_nielsen();
     brdffit_model_default_params(fit->model, fit->nc, fit->start);
-    for (k = 0; k < fit->model->n_params; k++)
-        fit->fixed[k] = (fit->model->params[k].flags & BRDFFIT_PARAM_FIXED) != 0;
+    for (k = 0; k < brdffit_model_param_count(fit->model); k++)
+        fit->fixed[k] = (brdffit_model_param(fit->model, k)->flags & BRDFFIT_PARAM_FIXED) != 0;
     atomic_init(&fit->cancel, 0);
 }
 
@@ -77,7 +78,7 @@ brdffit_status brdffit_fit_create(brdffit_fit **out, const brdffit_grid *grid,
     fit->alloc = a;
     fit->grid = grid;
     fit->model = model;
-    fit->nc = grid->n_channels;
+    fit->nc = brdffit_grid_channel_count(grid);
     fit->n_vec = brdffit_model_vector_size(model, fit->nc);
     if (fit_alloc_arrays(fit) != BRDFFIT_OK) {
         fit_free_arrays(fit);
@@ -150,9 +151,8 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
     default:
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "unknown fit setting");
     }
-    bf_format(fit->message, sizeof fit->message, "value %g out of range for fit setting %d",
-              value, (int)setting);
-    return BRDFFIT_E_INVALID_ARGUMENT;
+    return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
+                  "value %g out of range for fit setting %d", value, (int)setting);
 }
 
 brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setting,
@@ -191,21 +191,17 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
         brdffit_model_default_params(fit->model, fit->nc, fit->start);
         return BRDFFIT_OK;
     }
-    for (k = 0; k < fit->model->n_params; k++) {
-        const brdffit_param_info *info = &fit->model->params[k];
+    for (k = 0; k < brdffit_model_param_count(fit->model); k++) {
+        const brdffit_param_info *info = brdffit_model_param(fit->model, k);
         for (c = 0; c < fit->nc; c++) {
             double v = params[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
-            if (!isfinite(v)) {
-                bf_format(fit->message, sizeof fit->message, "start value of %s is %g",
-                          info->name, v);
-                return BRDFFIT_E_INVALID_ARGUMENT;
-            }
-            if (v < info->lower || v > info->upper) {
-                bf_format(fit->message, sizeof fit->message,
-                          "start value %g of %s is outside [%g, %g]", v, info->name,
-                          info->lower, info->upper);
-                return BRDFFIT_E_RANGE;
-            }
+            if (!isfinite(v))
+                return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
+                              "start value of %s is %g", info->name, v);
+            if (v < info->lower || v > info->upper)
+                return bf_say(fit->message, BRDFFIT_E_RANGE,
+                              "start value %g of %s is outside [%g, %g]", v, info->name,
+                              info->lower, info->upper);
         }
     }
     memcpy(fit->start, params, fit->n_vec * sizeof *params);
@@ -215,7 +211,7 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
 brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed)
 {
     BF_CHECK_FIT(fit);
-    if (param >= fit->model->n_params)
+    if (param >= brdffit_model_param_count(fit->model))
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "parameter index out of range");
     fit->fixed[param] = fixed != 0;
     return BRDFFIT_OK;
@@ -234,8 +230,17 @@ void brdffit_fit_cancel(brdffit_fit *fit)
     if (fit_ok(fit)) atomic_store(&fit->cancel, 1);
 }
 
+/* Take the result of a run (its arrays and message are the handle's own). */
+static void keep_result(brdffit_fit *fit, const bf_result *r, brdffit_status status)
+{
+    bf_free(&fit->alloc, fit->result.history);
+    fit->result = *r;
+    fit->has_result = status == BRDFFIT_OK;
+}
+
 brdffit_status brdffit_fit_run(brdffit_fit *fit)
 {
+    bf_result r;
     brdffit_status status;
     BF_CHECK_FIT(fit);
     if (!bf_grid_ok(fit->grid) || !bf_model_ok(fit->model)) {
@@ -243,8 +248,13 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
         return fit_fail(fit, BRDFFIT_E_BAD_HANDLE, "grid or model was destroyed");
     }
     fit->has_result = 0;
-    status = bf_fit_execute(fit);
-    fit->has_result = status == BRDFFIT_OK;
+    memset(&r, 0, sizeof r);
+    r.params = fit->result.params;
+    r.std_errors = fit->result.std_errors;
+    r.metrics = fit->result.metrics;
+    r.message = fit->message;
+    status = bf_run_fit(fit, &r);
+    keep_result(fit, &r, status);
     atomic_store(&fit->cancel, 0);
     return status;
 }
@@ -264,14 +274,14 @@ static brdffit_status result_ready(const brdffit_fit *fit, const void *out)
 brdffit_status brdffit_fit_params(const brdffit_fit *fit, double *params)
 {
     BF_RETURN_IF_ERROR(result_ready(fit, params));
-    memcpy(params, fit->params, fit->n_vec * sizeof *params);
+    memcpy(params, fit->result.params, fit->n_vec * sizeof *params);
     return BRDFFIT_OK;
 }
 
 brdffit_status brdffit_fit_std_errors(const brdffit_fit *fit, double *se)
 {
     BF_RETURN_IF_ERROR(result_ready(fit, se));
-    memcpy(se, fit->std_errors, fit->n_vec * sizeof *se);
+    memcpy(se, fit->result.std_errors, fit->n_vec * sizeof *se);
     return BRDFFIT_OK;
 }
 
@@ -296,7 +306,7 @@ brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit_metric metr
     if (channel != BRDFFIT_ALL_CHANNELS && channel >= fit->nc) return BRDFFIT_E_INVALID_ARGUMENT;
     for (c = 0; c < fit->nc; c++)
         if (channel == BRDFFIT_ALL_CHANNELS || channel == c)
-            for (i = 0; i < 4; i++) sums[i] += fit->metrics[4 * c + i];
+            for (i = 0; i < 4; i++) sums[i] += fit->result.metrics[4 * c + i];
     *value = metric_of(metric, sums);
     return BRDFFIT_OK;
 }
@@ -316,12 +326,12 @@ brdffit_status brdffit_fit_shader(const brdffit_fit *fit, double *rs, double *cd
         return BRDFFIT_E_UNSUPPORTED;
     nc = fit->nc;
     for (c = 0; c < nc; c++) {
-        cd[c] = fit->params[brdffit_model_vector_index(fit->model, kd, c, nc)];
-        cs[c] = fit->params[brdffit_model_vector_index(fit->model, ks, c, nc)];
+        cd[c] = fit->result.params[brdffit_model_vector_index(fit->model, kd, c, nc)];
+        cs[c] = fit->result.params[brdffit_model_vector_index(fit->model, ks, c, nc)];
         max_cs = fmax(max_cs, cs[c]);
     }
     if (find_param(fit->model, "Rs", &kr)) {
-        *rs = fit->params[brdffit_model_vector_index(fit->model, kr, 0, nc)];
+        *rs = fit->result.params[brdffit_model_vector_index(fit->model, kr, 0, nc)];
         return BRDFFIT_OK;
     }
     if (max_cs >= 1.0) return BRDFFIT_E_RANGE;
@@ -335,25 +345,25 @@ brdffit_status brdffit_fit_shader(const brdffit_fit *fit, double *rs, double *cd
 
 brdffit_stop_reason brdffit_fit_stop_reason(const brdffit_fit *fit)
 {
-    return fit_ok(fit) && fit->has_result ? fit->stop : BRDFFIT_STOP_NONE;
+    return fit_ok(fit) && fit->has_result ? fit->result.stop : BRDFFIT_STOP_NONE;
 }
 
 size_t brdffit_fit_iterations(const brdffit_fit *fit)
 {
-    return fit_ok(fit) && fit->has_result ? fit->iterations : 0;
+    return fit_ok(fit) && fit->has_result ? fit->result.iterations : 0;
 }
 
 size_t brdffit_fit_history(const brdffit_fit *fit, double *cost, double *lambda)
 {
     size_t n;
     if (!fit_ok(fit) || !fit->has_result) return 0;
-    n = fit->history_len;
-    if (cost != NULL && n > 0) memcpy(cost, fit->history, n * sizeof *cost);
-    if (lambda != NULL && n > 0) memcpy(lambda, fit->history + n, n * sizeof *lambda);
+    n = fit->result.history_len;
+    if (cost != NULL && n > 0) memcpy(cost, fit->result.history, n * sizeof *cost);
+    if (lambda != NULL && n > 0) memcpy(lambda, fit->result.history + n, n * sizeof *lambda);
     return n;
 }
 
 size_t brdffit_fit_passes(const brdffit_fit *fit)
 {
-    return fit_ok(fit) ? fit->passes : 0;
+    return fit_ok(fit) ? fit->result.passes : 0;
 }

@@ -1,4 +1,5 @@
-/* Internal layout of a fit handle and the pipelines. Not installed. */
+/* Internal layout of a fit handle: its options and the result of its last
+ * run. Not installed. */
 #ifndef BRDFFIT_FIT_INTERNAL_H
 #define BRDFFIT_FIT_INTERNAL_H
 
@@ -7,8 +8,7 @@
 #include <stdint.h>
 
 #include "brdffit/fit.h"
-
-#define BF_FIT_MESSAGE_SIZE 512
+#include "fit/result.h"
 
 struct brdffit_fit {
     uint32_t magic; /* BF_MAGIC_FIT */
@@ -33,19 +33,9 @@ struct brdffit_fit {
     void *callback_user;
     atomic_int cancel;
 
-    /* results of the last successful run */
+    /* the last run's result (valid when has_result; passes always) */
     int has_result;
-    double *params;             /* n_vec */
-    double *std_errors;         /* n_vec */
-    double *metrics;            /* 4 * nc: see BF_PASS_METRICS */
-    brdffit_stop_reason stop;
-    size_t iterations;
-    size_t passes;
-    double *history;            /* 2 * history_len: costs then lambdas */
-    size_t history_len;
+    bf_result result;
 };
-
-/* Run the selected pipeline; fills the result fields. */
-brdffit_status bf_fit_execute(brdffit_fit *fit);
 
 #endif

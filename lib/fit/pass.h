@@ -11,7 +11,12 @@
  *           d = M - R, a the solid-angle weight alone
  * The chunks are split into `threads` contiguous blocks, run by the pool's
  * helpers and the calling thread, and the blocks' partial sums are added in
- * block order, so a pass is deterministic for a given thread count. */
+ * block order, so a pass is deterministic for a given thread count.
+ *
+ * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
+ * for models in basis form (models/basis.h) on grids without missing
+ * values, the generic route for any model. bf_pass_prepare() chooses it
+ * once per problem. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
@@ -19,14 +24,23 @@
 #include <stddef.h>
 
 #include "brdffit/model.h"
+#include "fit/layout.h"
 #include "fit/pool.h"
 #include "grid/grid_internal.h"
+#include "models/basis.h"
 
 typedef enum bf_source { BF_SOURCE_CHANNELS, BF_SOURCE_ONE_CHANNEL, BF_SOURCE_MEAN } bf_source;
 
-typedef enum bf_pass_kind { BF_PASS_COST, BF_PASS_NORMAL, BF_PASS_VARPRO, BF_PASS_METRICS } bf_pass_kind;
+typedef enum bf_pass_kind {
+    BF_PASS_COST,
+    BF_PASS_NORMAL,
+    BF_PASS_VARPRO,
+    BF_PASS_METRICS
+} bf_pass_kind;
 
 #define BF_MAX_THREADS 64
+
+struct bf_route;
 
 typedef struct bf_problem {
     const brdffit_grid *grid;
@@ -37,14 +51,19 @@ typedef struct bf_problem {
     bf_source source;
     size_t source_channel;         /* BF_SOURCE_ONE_CHANNEL */
     double clearcoat;              /* R0; 0 = off */
-    size_t n_vec;                  /* model vector size for nc */
-    size_t n_linear;               /* linear declared parameters */
-    size_t linear[16];             /* their declared indices */
+    bf_layout ly;                  /* the model's vector layout for nc channels */
     const size_t *vindex;          /* [k * nc + m]: vector index of declared k, channel m */
     size_t threads;                /* blocks of a pass (at most BF_MAX_THREADS) */
     bf_pool *pool;                 /* helper threads for the blocks; NULL: the caller runs all */
     double *work;                  /* bf_pass_work_size() doubles, owned by the caller */
+    /* set by bf_pass_prepare() */
+    const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
+    const struct bf_route *route;  /* how chunks are accumulated */
 } bf_problem;
+
+/* Choose the route of every pass of the problem from the routes' table;
+ * call once after setting every other field but `work` (sized after it). */
+void bf_pass_prepare(bf_problem *pb);
 
 /* Doubles of workspace a pass of any kind needs (all threads together). */
 size_t bf_pass_work_size(const bf_problem *pb);
@@ -53,7 +72,8 @@ size_t bf_pass_work_size(const bf_problem *pb);
 size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind);
 
 /* Run a pass at model parameters `params` (natural units, model vector
- * layout; for VARPRO the linear entries are ignored). acc receives
+ * layout; for VARPRO the linear entries are ignored, and VARPRO needs
+ * bf_layout_projectable()). acc receives
  * bf_pass_acc_size() doubles. Never allocates: it works in pb->work. */
 brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *params,
                        double *acc, brdffit_error *err);

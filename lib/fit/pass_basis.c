@@ -1,6 +1,6 @@
-/* The fused pass of built-in models, from their basis form.
+/* The basis route of a pass (pass_route.h): models in basis form.
  *
- * A built-in model is value_c = sum_m p_{m,c} B_m(theta) (models/kernel.h),
+ * A built-in model is value_c = sum_m p_{m,c} B_m(theta) (models/basis.h),
  * so every Jacobian entry of channel c's row is one of the functions
  *
  *     E = { B_m } and { dB_m / dtheta_s : B_m depends on theta_s },
@@ -16,8 +16,8 @@
 #include <string.h>
 
 #include "core/core.h"
-#include "fit/pass_internal.h"
-#include "models/model_internal.h"
+#include "fit/pass_route.h"
+#include "models/basis.h"
 
 /* The extended basis of a kernel: E_a for a < L is B_a; the others are the
  * derivatives, in (shape, linear) order. ext[s][m] is the index of
@@ -29,26 +29,29 @@ typedef struct ebasis {
 
 static void ebasis_of(const bf_kernel *k, ebasis *eb)
 {
-    size_t s, m, next = k->n_linear;
-    eb->L = k->n_linear;
-    eb->K = k->n_shape;
+    bf_basis_form f;
+    size_t s, m, next;
+    bf_kernel_form(k, &f);
+    next = f.n_linear;
+    eb->L = f.n_linear;
+    eb->K = f.n_shape;
     for (s = 0; s < BF_KERNEL_MAX_SHAPE; s++)
         for (m = 0; m < BF_KERNEL_MAX_LINEAR; m++)
-            eb->ext[s][m] = (s < eb->K && m < eb->L && (k->dep[s] & (1u << m))) ? (int)next++ : -1;
+            eb->ext[s][m] = (s < eb->K && m < eb->L && (f.dep[s] & (1u << m))) ? (int)next++ : -1;
     eb->NE = next;
 }
 
-int bf_basis_usable(const bf_problem *pb)
+/* A model in basis form and no missing values: then every channel's rows
+ * share one set of weights. */
+static int basis_serves(const bf_problem *pb)
 {
-    const bf_kernel *k = pb->model->kernel;
-    return k != NULL && pb->grid->missing == NULL &&
-           pb->model->n_params == k->n_shape + k->n_linear;
+    return pb->kernel != NULL && !bf_grid_has_missing(pb->grid);
 }
 
-size_t bf_basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
+static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
 {
     ebasis eb;
-    ebasis_of(pb->model->kernel, &eb);
+    ebasis_of(pb->kernel, &eb);
     switch (kind) {
     case BF_PASS_COST: return 1;
     case BF_PASS_NORMAL: return 1 + eb.NE * eb.NE + pb->nc * eb.NE;
@@ -58,7 +61,7 @@ size_t bf_basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
     return 0;
 }
 
-size_t bf_basis_scratch_size(const bf_problem *pb)
+static size_t basis_scratch_size(const bf_problem *pb)
 {
     /* the basis block, the weighted functions u_a = w E_a (at most
      * L (1 + K) of them) and one residual block */
@@ -75,7 +78,7 @@ static double colour(const bf_problem *pb, const double *params, size_t K, size_
 
 /* d~ = w (value - measured) of channel c over a block. */
 static void residuals(const bf_problem *pb, const double *params, const ebasis *eb,
-                      const bf_basis *bs, const scratch *sc, size_t n, size_t off, size_t count,
+                      const bf_basis *bs, const bf_scratch *sc, size_t n, size_t off, size_t count,
                       size_t c, double *restrict dw)
 {
     const double *restrict meas = sc->meas + c * n + off, *restrict w = sc->w + off;
@@ -106,7 +109,7 @@ static void weighted_basis(const ebasis *eb, const bf_basis *bs, const double *r
 }
 
 static void block_normal(const bf_problem *pb, const double *params, const ebasis *eb,
-                         const bf_basis *bs, const scratch *sc, size_t n, size_t off,
+                         const bf_basis *bs, const bf_scratch *sc, size_t n, size_t off,
                          size_t count, double *u, double *dw)
 {
     double *acc = sc->acc, *G = acc + 1, *H = acc + 1 + eb->NE * eb->NE;
@@ -125,7 +128,7 @@ static void block_normal(const bf_problem *pb, const double *params, const ebasi
 }
 
 static void block_cost(const bf_problem *pb, const double *params, const ebasis *eb,
-                       const bf_basis *bs, const scratch *sc, size_t n, size_t off, size_t count,
+                       const bf_basis *bs, const bf_scratch *sc, size_t n, size_t off, size_t count,
                        double *dw)
 {
     size_t c;
@@ -136,7 +139,7 @@ static void block_cost(const bf_problem *pb, const double *params, const ebasis 
 }
 
 static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis *bs,
-                         const scratch *sc, size_t n, size_t off, size_t count, double *u,
+                         const bf_scratch *sc, size_t n, size_t off, size_t count, double *u,
                          double *rw)
 {
     double *G = sc->acc, *bvec = sc->acc + eb->L * eb->L, *rr = bvec + pb->nc * eb->L;
@@ -157,23 +160,26 @@ static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis 
 }
 
 BF_VECTOR_CLONES
-void bf_basis_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params, scratch *sc,
-                    const brdffit_batch *batch, double *work)
+static brdffit_status basis_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                                  bf_scratch *sc, const brdffit_batch *batch, brdffit_error *err)
 {
-    const bf_kernel *k = pb->model->kernel;
+    const bf_kernel *k = pb->kernel;
+    double *work = sc->own;
     bf_basis *bs = (bf_basis *)(void *)work;
     double *u = work + sizeof(bf_basis) / sizeof(double);
     double *dw = u + BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) * BF_KERNEL_BLOCK;
     size_t n = batch->n, off, count;
     ebasis eb;
+    (void)err; /* a kernel never fails */
     ebasis_of(k, &eb);
     for (off = 0; off < n; off += count) {
         count = n - off < BF_KERNEL_BLOCK ? n - off : BF_KERNEL_BLOCK;
-        k->basis(batch, off, count, params, bs);
+        bf_kernel_basis(k, batch, off, count, params, bs);
         if (kind == BF_PASS_NORMAL) block_normal(pb, params, &eb, bs, sc, n, off, count, u, dw);
         else if (kind == BF_PASS_COST) block_cost(pb, params, &eb, bs, sc, n, off, count, dw);
         else block_varpro(pb, &eb, bs, sc, n, off, count, u, dw);
     }
+    return BRDFFIT_OK;
 }
 
 static double sym(const double *G, size_t NE, size_t a, size_t b)
@@ -185,7 +191,7 @@ static double sym(const double *G, size_t NE, size_t a, size_t b)
 static void finish_normal(const bf_problem *pb, const double *params, const ebasis *eb,
                           const double *bacc, double *acc)
 {
-    const size_t nv = pb->n_vec, nc = pb->nc, K = eb->K, L = eb->L, NE = eb->NE;
+    const size_t nv = pb->ly.n_vec, nc = pb->nc, K = eb->K, L = eb->L, NE = eb->NE;
     const double *G = bacc + 1, *H = bacc + 1 + NE * NE;
     double *jtr = acc + 1, *jtj = acc + 1 + nv;
     size_t s, t, m, q, c;
@@ -238,12 +244,17 @@ static void finish_varpro(const bf_problem *pb, const ebasis *eb, const double *
     }
 }
 
-void bf_basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
-                     const double *basis_acc, double *acc)
+static void basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                         const double *basis_acc, double *acc)
 {
     ebasis eb;
-    ebasis_of(pb->model->kernel, &eb);
+    ebasis_of(pb->kernel, &eb);
     if (kind == BF_PASS_NORMAL) finish_normal(pb, params, &eb, basis_acc, acc);
     else if (kind == BF_PASS_VARPRO) finish_varpro(pb, &eb, basis_acc, acc);
     else acc[0] = basis_acc[0];
 }
+
+/* METRICS is left to the generic route. */
+const bf_route bf_route_basis = {
+    (1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) | (1u << BF_PASS_VARPRO),
+    basis_serves, basis_acc_size, basis_scratch_size, basis_chunk, basis_finish};

@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "core/core.h"
-#include "models/model_internal.h"
 
 static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t n_acc,
                                   size_t n_work)
@@ -15,7 +14,7 @@ static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t
     st->vindex = bf_calloc(a, n_index, sizeof(size_t));
     st->decl = bf_calloc(a, n, sizeof(size_t));
     st->logs = bf_calloc(a, n, 2);
-    st->lower = bf_calloc(a, 9 * n + n_acc, sizeof(double));
+    st->lower = bf_calloc(a, 8 * n + n_acc, sizeof(double));
     st->pb.work = bf_calloc(a, n_work, sizeof(double));
     if (!st->vindex || !st->decl || !st->logs || !st->lower || !st->pb.work)
         return BRDFFIT_E_OUT_OF_MEMORY;
@@ -25,31 +24,28 @@ static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t
     st->oupper = st->lower + 3 * n;
     st->base = st->lower + 4 * n;
     st->p = st->lower + 5 * n;
-    st->result = st->lower + 6 * n;
-    st->se = st->lower + 7 * n;
-    st->acc = st->lower + 9 * n;
+    st->x = st->lower + 6 * n;
+    st->shown = st->lower + 7 * n;
+    st->acc = st->lower + 8 * n;
     return BRDFFIT_OK;
 }
 
 static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t source_channel)
 {
     brdffit_fit *fit = st->run->fit;
-    const brdffit_model *model = fit->model;
-    size_t k;
     memset(&st->pb, 0, sizeof st->pb);
     st->pb.grid = fit->grid;
-    st->pb.model = model;
+    st->pb.model = fit->model;
     st->pb.plan = &st->run->plan;
     st->pb.plan_sa = &st->run->plan_sa;
     st->pb.nc = nc;
     st->pb.source = source;
     st->pb.source_channel = source_channel;
     st->pb.clearcoat = fit->clearcoat;
-    st->pb.n_vec = brdffit_model_vector_size(model, nc);
+    bf_layout_init(&st->pb.ly, fit->model, nc);
     st->pb.threads = fit->threads;
     st->pb.pool = &st->run->pool;
-    for (k = 0; k < model->n_params && st->pb.n_linear < 16; k++)
-        if (model->params[k].flags & BRDFFIT_PARAM_LINEAR) st->pb.linear[st->pb.n_linear++] = k;
+    bf_pass_prepare(&st->pb);
 }
 
 /* Mean over the fit's channels of the start values of declared k. */
@@ -66,15 +62,13 @@ static double start_value(const brdffit_fit *fit, size_t k, size_t m, size_t nc)
 static void fill_mapping(bf_stage *st, size_t nc, int fix_shared)
 {
     brdffit_fit *fit = st->run->fit;
-    const brdffit_model *model = fit->model;
     size_t k, m;
-    for (k = 0; k < model->n_params; k++) {
-        const brdffit_param_info *info = &model->params[k];
+    bf_layout_entries(&st->pb.ly, fit->model, st->vindex, st->decl);
+    for (k = 0; k < st->pb.ly.n_params; k++) {
+        const brdffit_param_info *info = brdffit_model_param(fit->model, k);
         int per = (info->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
         for (m = 0; m < nc; m++) {
-            size_t e = brdffit_model_vector_index(model, k, m, nc);
-            st->vindex[k * nc + m] = e;
-            st->decl[e] = k;
+            size_t e = st->vindex[k * nc + m];
             st->logs[e] = (info->flags & BRDFFIT_PARAM_LOG_SCALE) != 0;
             st->fixed[e] = fit->fixed[k] || (fix_shared && !per);
             st->lower[e] = info->lower;
@@ -94,14 +88,14 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
     memset(st, 0, sizeof *st);
     st->run = run;
     fill_problem(st, nc, source, source_channel);
-    n = st->pb.n_vec;
+    n = st->pb.ly.n_vec;
     st->n = n;
     n_acc = bf_pass_acc_size(&st->pb, BF_PASS_NORMAL);
     if (bf_pass_acc_size(&st->pb, BF_PASS_VARPRO) > n_acc)
         n_acc = bf_pass_acc_size(&st->pb, BF_PASS_VARPRO);
     if (bf_pass_acc_size(&st->pb, BF_PASS_METRICS) > n_acc)
         n_acc = bf_pass_acc_size(&st->pb, BF_PASS_METRICS);
-    if (stage_alloc(st, n, run->fit->model->n_params * nc, n_acc, bf_pass_work_size(&st->pb)) !=
+    if (stage_alloc(st, n, st->pb.ly.n_params * nc, n_acc, bf_pass_work_size(&st->pb)) !=
         BRDFFIT_OK) {
         bf_stage_free(st);
         return BRDFFIT_E_OUT_OF_MEMORY;
@@ -126,17 +120,13 @@ void bf_stage_free(bf_stage *st)
 
 brdffit_status bf_stage_fail(bf_stage *st, brdffit_status status, const char *what)
 {
-    brdffit_fit *fit = st->run->fit;
-    if (st->status != BRDFFIT_OK) {
-        status = st->status;
-        bf_format(fit->message, sizeof fit->message, "%s: %s", what, st->err.message);
-    } else if (status == BRDFFIT_E_OUT_OF_MEMORY) {
-        bf_format(fit->message, sizeof fit->message, "%s: out of memory", what);
-    } else {
-        bf_format(fit->message, sizeof fit->message, "%s: %s", what,
+    char *message = st->run->result->message;
+    if (st->status != BRDFFIT_OK)
+        return bf_say(message, st->status, "%s: %s", what, st->err.message);
+    if (status == BRDFFIT_E_OUT_OF_MEMORY)
+        return bf_say(message, status, "%s: out of memory", what);
+    return bf_say(message, status, "%s: %s", what,
                   st->opt ? brdffit_optimizer_message(st->opt) : brdffit_status_string(status));
-    }
-    return status;
 }
 
 double bf_stage_natural(const bf_stage *st, size_t e, double x)
@@ -163,6 +153,15 @@ static void to_optimiser(const bf_stage *st, const double *p, double *x)
     }
 }
 
+brdffit_status bf_stage_pass(bf_stage *st, bf_pass_kind kind)
+{
+    brdffit_status status;
+    st->run->result->passes++;
+    status = bf_pass(&st->pb, kind, st->p, st->acc, &st->err);
+    if (status != BRDFFIT_OK) st->status = status;
+    return status;
+}
+
 /* The optimizer's normal-equation callback: a fused pass with the chain
  * rule of the log mapping applied. */
 static brdffit_status stage_normal(const double *x, double *cost, double *jtj, double *jtr,
@@ -172,12 +171,8 @@ static brdffit_status stage_normal(const double *x, double *cost, double *jtj, d
     size_t n = st->n, a, b;
     brdffit_status status;
     to_natural(st, x, st->p);
-    st->run->passes++;
-    status = bf_pass(&st->pb, jtj ? BF_PASS_NORMAL : BF_PASS_COST, st->p, st->acc, &st->err);
-    if (status != BRDFFIT_OK) {
-        st->status = status;
-        return status;
-    }
+    status = bf_stage_pass(st, jtj ? BF_PASS_NORMAL : BF_PASS_COST);
+    if (status != BRDFFIT_OK) return status;
     *cost = st->acc[0];
     if (jtj == NULL) return BRDFFIT_OK;
     for (a = 0; a < n; a++) {
@@ -204,8 +199,8 @@ static int stage_iteration(const brdffit_iteration *it, void *user)
     }
     if (fit->callback == NULL) return 0;
     copy = *it;
-    to_natural(st, it->x, st->p);
-    copy.x = st->p;
+    to_natural(st, it->x, st->shown);
+    copy.x = st->shown;
     return fit->callback(&copy, fit->callback_user);
 }
 
@@ -227,22 +222,32 @@ static brdffit_status configure(bf_stage *st, size_t rows)
     return brdffit_optimizer_set_callback(opt, stage_iteration, st);
 }
 
-static void collect(bf_stage *st, const double *x)
+/* The natural result and standard errors of the run ending at x. */
+static void collect(bf_stage *st, const double *x, double *params, double *se)
 {
     size_t e;
-    to_natural(st, x, st->result);
+    to_natural(st, x, params);
     st->cost = brdffit_optimizer_final_cost(st->opt);
-    if (brdffit_optimizer_std_errors(st->opt, st->se) != BRDFFIT_OK)
-        memset(st->se, 0, st->n * sizeof *st->se);
+    if (brdffit_optimizer_std_errors(st->opt, se) != BRDFFIT_OK) memset(se, 0, st->n * sizeof *se);
     for (e = 0; e < st->n; e++)
-        if (st->logs[e]) st->se[e] *= st->result[e];
+        if (st->logs[e]) se[e] *= params[e];
 }
 
-brdffit_status bf_stage_lm(bf_stage *st, const double *start)
+/* The stage's channel has no value to fit (the run checked that some
+ * channel has). */
+static brdffit_status no_rows(bf_stage *st)
+{
+    char *message = st->run->result->message;
+    if (st->pb.source == BF_SOURCE_ONE_CHANNEL)
+        return bf_say(message, BRDFFIT_E_NO_DATA,
+                      "channel %zu has no measured value inside the cap", st->pb.source_channel);
+    return bf_say(message, BRDFFIT_E_NO_DATA, "no measured value inside the cap");
+}
+
+brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, double *se)
 {
     brdffit_fit *fit = st->run->fit;
     size_t rows;
-    double *x = st->result; /* the optimiser works in place, then collect() maps back */
     brdffit_status status;
     brdffit_optimizer_destroy(st->opt);
     st->opt = NULL;
@@ -250,12 +255,12 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start)
     status = brdffit_optimizer_create(&st->opt, st->n, &fit->alloc, NULL);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "creating the optimizer");
     bf_count_rows(&st->pb, &rows, NULL);
-    if (rows == 0) return bf_stage_fail(st, BRDFFIT_E_NO_DATA, "no measured value inside the cap");
+    if (rows == 0) return no_rows(st);
     status = configure(st, rows);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "configuring the optimizer");
-    to_optimiser(st, start, x);
-    status = brdffit_optimizer_run(st->opt, x);
+    to_optimiser(st, start, st->x);
+    status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
-    collect(st, x);
+    collect(st, st->x, params, se);
     return BRDFFIT_OK;
 }

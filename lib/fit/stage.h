@@ -1,7 +1,8 @@
 /* A stage: one binding of the fit's grid and model in one channel layout,
  * with the mapping between natural parameters and the optimiser's space
  * (log for logarithmic-scale parameters), and one Levenberg-Marquardt run
- * over it. Every pipeline is a sequence of stages. Not installed. */
+ * over it: natural units in, natural units out, into the caller's arrays.
+ * Every pipeline is a sequence of stages. Not installed. */
 #ifndef BRDFFIT_FIT_STAGE_H
 #define BRDFFIT_FIT_STAGE_H
 
@@ -9,13 +10,16 @@
 
 #include "fit/fit_internal.h"
 #include "fit/pass.h"
+#include "fit/result.h"
 
-/* What one fit run shares between its stages. */
+/* What one fit run shares between its stages. The handle is only read
+ * (options, start values, cancel flag); everything the run produces goes
+ * to *result. */
 typedef struct bf_run {
     brdffit_fit *fit;
     bf_weight_plan plan, plan_sa;
     bf_pool pool; /* fit->threads - 1 helpers for every pass of the run */
-    size_t passes;
+    bf_result *result;
     int cancelled;
 } bf_run;
 
@@ -30,10 +34,10 @@ typedef struct bf_stage {
     double *lower, *upper;  /* n: natural bounds */
     double *olower, *oupper;/* n: optimiser-space bounds */
     double *base;           /* n: natural start / held values */
-    double *p;              /* n: natural scratch */
-    double *acc;            /* NORMAL accumulator */
-    double *result;         /* n: natural result of the last LM run */
-    double *se;             /* n: natural standard errors of the last LM run */
+    double *p;              /* n: natural point of the next pass */
+    double *x;              /* n: optimiser-space point of the LM run */
+    double *shown;          /* n: natural point shown to the user's callback */
+    double *acc;            /* accumulator of any pass */
     double cost;            /* final cost of the last LM run */
     brdffit_optimizer *opt; /* the last LM run's optimizer */
     brdffit_status status;  /* last pass failure, for the message */
@@ -51,11 +55,18 @@ void bf_stage_free(bf_stage *st);
  * entries), clamped into its bounds. */
 double bf_stage_natural(const bf_stage *st, size_t e, double x);
 
-/* One LM run from natural `start` (clamped into the bounds); fills
- * st->result, st->se, st->cost and keeps st->opt for the history. */
-brdffit_status bf_stage_lm(bf_stage *st, const double *start);
+/* Count a pass of the run and run it at st->p into st->acc; a failure is
+ * kept in st->status and st->err for the message. */
+brdffit_status bf_stage_pass(bf_stage *st, bf_pass_kind kind);
 
-/* Report a failure of the stage on the fit handle and return it. */
+/* One LM run from natural `start` (clamped into the bounds): the natural
+ * result into params and its standard errors into se (n each, the
+ * caller's), the final cost into st->cost; st->opt is kept for the
+ * history. */
+brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, double *se);
+
+/* Word a failure of the stage (`what` failed) into the run's message and
+ * return the status it reports. */
 brdffit_status bf_stage_fail(bf_stage *st, brdffit_status status, const char *what);
 
 #endif

@@ -571,27 +571,6 @@ static int src_missing(const brdffit_grid *g, size_t c, size_t s)
     return g->missing != NULL && g->missing[c * g->n_samples + s];
 }
 
-/* Mean of the present values of sample s; returns the number present. */
-static size_t sample_mean(const brdffit_grid *g, size_t s, double *mean)
-{
-    size_t c, n = 0;
-    double sum = 0.0;
-    for (c = 0; c < g->n_channels; c++) {
-        if (src_missing(g, c, s)) continue;
-        sum += g->values[c * g->n_samples + s];
-        n++;
-    }
-    if (n > 0 && !isfinite(sum)) { /* overflow: average the scaled values */
-        sum = 0.0;
-        for (c = 0; c < g->n_channels; c++)
-            if (!src_missing(g, c, s)) sum += g->values[c * g->n_samples + s] / (double)n;
-        *mean = sum;
-        return n;
-    }
-    *mean = n > 0 ? sum / (double)n : 0.0;
-    return n;
-}
-
 static size_t count_all_missing(const brdffit_grid *g)
 {
     size_t s, c, count = 0;
@@ -618,7 +597,7 @@ brdffit_status brdffit_grid_channel_mean(brdffit_grid **out, const brdffit_grid 
     }
     for (s = 0; s < g->n_samples; s++) {
         double mean;
-        size_t present = sample_mean(grid, s, &mean);
+        size_t present = bf_grid_sample_mean(grid, s, &mean);
         g->values[s] = mean;
         if (present == 0) g->missing[s] = 1;
     }
@@ -626,20 +605,12 @@ brdffit_status brdffit_grid_channel_mean(brdffit_grid **out, const brdffit_grid 
     return BRDFFIT_OK;
 }
 
-/* 1 - F(theta_i), F Schlick's approximation with cos theta_i >= 1e-4. */
-static double coat_divisor(double cos_i, double r0)
-{
-    double c = cos_i > BF_DOT_FLOOR ? (cos_i < 1.0 ? cos_i : 1.0) : BF_DOT_FLOOR;
-    double m = 1.0 - c, m5 = m * m * m * m * m;
-    return 1.0 - (r0 + (1.0 - r0) * m5);
-}
-
 static brdffit_status apply_coat(brdffit_grid *g, const brdffit_grid *src, double r0,
                                  brdffit_error *err)
 {
     size_t s, c, n = g->n_samples;
     for (s = 0; s < n; s++) {
-        double d = coat_divisor(src->geo.lz[s], r0);
+        double d = bf_grid_coat_divisor(r0, src->geo.lz[s]);
         for (c = 0; c < g->n_channels; c++) {
             size_t v = c * n + s;
             g->values[v] = src->values[v] / d;

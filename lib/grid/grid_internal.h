@@ -6,8 +6,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "brdffit/batch.h"
 #include "brdffit/grid.h"
-#include "brdffit/model.h"
+#include "core/core.h"
 
 /* Largest number of samples in one chunk handed to a model. */
 #define BF_CHUNK 64
@@ -70,5 +71,56 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
  * written to `weights` (room for BF_CHUNK doubles). */
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights);
+
+/* ---- what other layers read of a grid (derived.c) ------------------------- */
+
+/* Whether any value of the grid is marked missing. */
+int bf_grid_has_missing(const brdffit_grid *g);
+
+/* The geometry of samples [first, first + count) as a batch. */
+void bf_grid_batch(const brdffit_grid *g, size_t first, size_t count, brdffit_batch *out);
+
+/* Measured values of channel c for samples [first, first + n) into meas,
+ * and 1 (present) or 0 (missing) into present. */
+void bf_grid_load_channel(const brdffit_grid *g, size_t c, size_t first, size_t n, double *meas,
+                          double *present);
+
+/* Mean of the present values of sample s into *mean (0 when none is
+ * present); returns how many are present. When their sum overflows, the
+ * mean of the values divided by their count (finite for finite values). */
+size_t bf_grid_sample_mean(const brdffit_grid *g, size_t s, double *mean);
+
+/* The channel mean of samples [first, first + n) (bf_grid_sample_mean)
+ * into meas, and 1 or 0 (no channel present) into present. */
+void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *meas,
+                       double *present);
+
+/* Largest value of any channel over samples [first, first + n) (missing
+ * values are stored as 0), at least 0. */
+double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n);
+
+/* Clear-coat divisor 1 - F(theta_i) = (1 - r0) (1 - (1 - cos theta_i)^5),
+ * F Schlick's approximation with reflectance r0 at normal incidence and
+ * cos theta_i clamped to [BF_DOT_FLOOR, 1] (docs/definitions.md): a
+ * compensated value is the measured one divided by it. Inline: the pass
+ * calls it per sample. */
+static inline double bf_grid_coat_divisor(double r0, double cos_i)
+{
+    double c = cos_i > BF_DOT_FLOOR ? (cos_i < 1.0 ? cos_i : 1.0) : BF_DOT_FLOOR;
+    double m = 1.0 - c, m5 = m * m * m * m * m;
+    return (1.0 - r0) * (1.0 - m5);
+}
+
+/* Channel selectors of bf_grid_count_rows() besides a channel index. */
+#define BF_GRID_EVERY_CHANNEL ((size_t)-1)
+#define BF_GRID_MEAN ((size_t)-2)
+
+/* Rows of a fit over the plan's samples: the values with a non-zero
+ * weight and present, of one channel, of every channel, or of the channel
+ * mean (BF_GRID_MEAN: a sample counts once when any channel is present). */
+size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel);
+
+/* Whether the plan has a row of any channel (stops at the first). */
+int bf_grid_has_rows(const bf_weight_plan *plan);
 
 #endif /* BRDFFIT_GRID_INTERNAL_H */

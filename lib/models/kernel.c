@@ -1,8 +1,11 @@
 /* Assembly of values and Jacobians from the basis blocks of a kernel: the
- * per-channel part of every built-in model, plain multiply-adds only. */
+ * per-channel part of every built-in model, plain multiply-adds only; and
+ * the accessor functions through which other layers read a kernel
+ * (models/basis.h). */
 #include <string.h>
 
 #include "models/kernel.h"
+#include "models/model_internal.h"
 
 /* out[i] = sum over linear m of p_{m,c} b[m][i]. */
 static void assemble_values(const bf_kernel *k, const bf_basis *bs, size_t count, const double *lin,
@@ -65,4 +68,26 @@ brdffit_status bf_kernel_run(const bf_kernel *k, const brdffit_batch *batch, con
         assemble_block(k, &bs, first, count, batch->n, params, n_channels, values, jacobian);
     }
     return BRDFFIT_OK;
+}
+
+/* ---- the basis form as other layers see it (models/basis.h) ---------------- */
+
+const bf_kernel *bf_model_basis(const brdffit_model *m)
+{
+    const bf_kernel *k = m->kernel;
+    return k != NULL && m->n_params == k->n_shape + k->n_linear ? k : NULL;
+}
+
+void bf_kernel_form(const bf_kernel *k, bf_basis_form *out)
+{
+    size_t s;
+    out->n_shape = k->n_shape;
+    out->n_linear = k->n_linear;
+    for (s = 0; s < BF_KERNEL_MAX_SHAPE; s++) out->dep[s] = k->dep[s];
+}
+
+void bf_kernel_basis(const bf_kernel *k, const brdffit_batch *batch, size_t first, size_t count,
+                     const double *shape, bf_basis *out)
+{
+    k->basis(batch, first, count, shape, out);
 }

@@ -20,30 +20,19 @@
 #include <stddef.h>
 
 #include "brdffit/model.h"
-
-/* Samples per basis block (the buffers live on the stack). */
-#define BF_KERNEL_BLOCK 64
-#define BF_KERNEL_MAX_SHAPE 3
-#define BF_KERNEL_MAX_LINEAR 3
-
-/* Basis values b[m][i] and derivatives db[k][m][i] of one block. Entries
- * whose (k, m) pair is not in the kernel's dependency mask are never read. */
-typedef struct bf_basis {
-    double b[BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
-    double db[BF_KERNEL_MAX_SHAPE][BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
-} bf_basis;
+#include "models/basis.h"
 
 /* Fill the basis of samples [first, first + count) of the batch
  * (count <= BF_KERNEL_BLOCK) for the shape parameters `shape`. */
 typedef void (*bf_basis_fn)(const brdffit_batch *batch, size_t first, size_t count,
                             const double *shape, bf_basis *out);
 
-typedef struct bf_kernel {
+struct bf_kernel {
     size_t n_shape;                    /* K <= BF_KERNEL_MAX_SHAPE */
     size_t n_linear;                   /* L <= BF_KERNEL_MAX_LINEAR */
     unsigned dep[BF_KERNEL_MAX_SHAPE]; /* bit m set: B_m depends on shape k */
     bf_basis_fn basis;
-} bf_kernel;
+};
 
 /* Evaluate a kernel over a batch with the layouts of brdffit_model_eval_fn. */
 brdffit_status bf_kernel_run(const bf_kernel *k, const brdffit_batch *batch, const double *params,

@@ -1,10 +1,12 @@
-/* Internal layout of a model handle. Not installed. */
+/* Internal layout of a model handle, for lib/models only (the other layers
+ * use models/models.h and models/basis.h). Not installed. */
 #ifndef BRDFFIT_MODEL_INTERNAL_H
 #define BRDFFIT_MODEL_INTERNAL_H
 
 #include <stdint.h>
 
 #include "brdffit/model.h"
+#include "models/models.h"
 
 struct brdffit_model {
     uint32_t magic; /* BF_MAGIC_MODEL */
@@ -20,22 +22,5 @@ struct brdffit_model {
      * for user models. */
     const struct bf_kernel *kernel;
 };
-
-/* Validate a model handle (non-NULL, magic). */
-int bf_model_ok(const brdffit_model *m);
-
-/* Evaluate over a batch; maps a callback failure to
- * BRDFFIT_E_MODEL_FAILED with a message naming the model and the status it
- * returned. Does not check the outputs for NaN. */
-brdffit_status bf_model_eval(const brdffit_model *m, const brdffit_batch *batch,
-                             const double *params, size_t n_channels, double *values,
-                             double *jacobian, brdffit_error *err);
-
-/* Check the outputs of an evaluation of n samples for NaN and Inf:
- * BRDFFIT_E_NONFINITE with a message naming the model, the parameter (for
- * a derivative), the sample (its index plus `offset`) and the channel. */
-brdffit_status bf_model_check_outputs(const brdffit_model *m, size_t n, size_t n_channels,
-                                      const double *values, const double *jacobian,
-                                      size_t offset, brdffit_error *err);
 
 #endif /* BRDFFIT_MODEL_INTERNAL_H */

@@ -1,0 +1,101 @@
+/* The auto pipeline: no start values. The global scan (scan.h) of the
+ * profile cost (varpro.h) finds the best minima of the shape parameters;
+ * each competing one is polished by Levenberg-Marquardt over every free
+ * parameter and the best polish is the result. */
+#include <math.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "fit/pipelines.h"
+#include "fit/scan.h"
+#include "fit/varpro.h"
+
+/* Polish one candidate with LM over every free parameter; the best polish
+ * so far is in the run's result (cost *best_cost). `work` has 3 n doubles. */
+static brdffit_status polish(bf_stage *st, const bf_scan *sc, const bf_candidate *c,
+                             double *best_cost, double *work)
+{
+    bf_result *r = st->run->result;
+    double cost, *start = work, *params = work + st->n, *se = work + 2 * st->n;
+    BF_RETURN_IF_ERROR(bf_scan_profile_at(st, sc, c->u, &cost));
+    memcpy(start, st->p, st->n * sizeof *start);
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, params, se));
+    if (st->cost < *best_cost) {
+        *best_cost = st->cost;
+        memcpy(r->params, params, st->n * sizeof *params);
+        memcpy(r->std_errors, se, st->n * sizeof *se);
+    }
+    return BRDFFIT_OK;
+}
+
+/* A cancel during the scan: the best point seen so far, unpolished. */
+static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
+{
+    bf_result *r = st->run->result;
+    double cost;
+    if (sc->n_best == 0) memcpy(st->p, st->base, st->n * sizeof *st->p);
+    else bf_scan_set_point(st, sc, sc->best[0].u);
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
+    memcpy(r->params, st->p, st->n * sizeof *r->params);
+    memset(r->std_errors, 0, st->n * sizeof *r->std_errors);
+    return BRDFFIT_OK;
+}
+
+/* Polish the best minimum and every other one whose scan cost is within a
+ * factor 2 of it (the profile cost comes from normal equations and can
+ * mislead by rounding when minima are close). Competing minima of one
+ * shape parameter are refined first; a single one needs no refinement: LM
+ * converges from anywhere in its basin. */
+static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
+{
+    const brdffit_allocator *a = &st->run->fit->alloc;
+    size_t n_polish = 1, i;
+    double best_cost = HUGE_VAL, *work;
+    brdffit_status status = BRDFFIT_OK;
+    while (n_polish < sc->n_best && sc->best[n_polish].cost <= 2.0 * sc->best[0].cost) n_polish++;
+    if (sc->nd == 1 && n_polish > 1) BF_RETURN_IF_ERROR(bf_scan_refine(st, sc, n_polish));
+    if (st->run->cancelled) return cancelled_result(st, sc);
+    work = bf_calloc(a, 3 * st->n, sizeof *work);
+    if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    for (i = 0; i < n_polish && status == BRDFFIT_OK && !st->run->cancelled; i++)
+        status = polish(st, sc, &sc->best[i], &best_cost, work);
+    if (status == BRDFFIT_OK && !(best_cost < HUGE_VAL))
+        status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
+    bf_free(a, work);
+    return status;
+}
+
+/* Why an auto fit failed, in the run's message. */
+static brdffit_status auto_fail(bf_stage *st, brdffit_status status)
+{
+    if (status == BRDFFIT_E_OUT_OF_MEMORY && st->status == BRDFFIT_OK) return status;
+    return bf_stage_fail(st, status, "auto fit");
+}
+
+/* Variable projection solves at most BF_LSQ_MAX linear parameters. */
+static brdffit_status check_projectable(bf_run *run)
+{
+    bf_layout ly;
+    bf_layout_init(&ly, run->fit->model, run->fit->nc);
+    if (bf_layout_projectable(&ly)) return BRDFFIT_OK;
+    return bf_say(run->result->message, BRDFFIT_E_UNSUPPORTED,
+                  "the auto pipeline solves at most %d linear parameters exactly; model '%s' "
+                  "has %zu (use the joint or two-stage pipeline)",
+                  BF_LSQ_MAX, brdffit_model_name(run->fit->model), ly.n_linear);
+}
+
+brdffit_status bf_pipeline_auto(bf_run *run)
+{
+    bf_stage st;
+    bf_scan sc;
+    brdffit_status status = check_projectable(run);
+    if (status != BRDFFIT_OK) return status;
+    status = bf_stage_init(&st, run, run->fit->nc, BF_SOURCE_CHANNELS, 0, 0);
+    if (status != BRDFFIT_OK) return status;
+    status = bf_scan_run(&st, &sc);
+    if (status == BRDFFIT_OK) status = polish_all(&st, &sc);
+    if (status == BRDFFIT_OK) status = bf_result_keep_report(run->result, st.opt, &run->fit->alloc);
+    else status = auto_fail(&st, status);
+    bf_stage_free(&st);
+    return status;
+}

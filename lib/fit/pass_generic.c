@@ -1,0 +1,155 @@
+/* The generic route of a pass (pass_route.h): any model, through its
+ * evaluation callback, with the model's Jacobian per channel. Serves every
+ * problem and every kind of pass. */
+#include <string.h>
+
+#include "fit/pass_route.h"
+#include "models/models.h"
+
+static int wants_jacobian(bf_pass_kind kind)
+{
+    return kind == BF_PASS_NORMAL || kind == BF_PASS_VARPRO;
+}
+
+static int generic_serves(const bf_problem *pb)
+{
+    (void)pb;
+    return 1;
+}
+
+/* Room for the Jacobian: n_params * nc * BF_CHUNK doubles. */
+static size_t generic_scratch_size(const bf_problem *pb)
+{
+    return pb->ly.n_params * pb->nc * BF_CHUNK;
+}
+
+/* Row weights w * present of channel m into rw. */
+static void row_weights(const bf_scratch *sc, size_t m, size_t n, double *restrict rw)
+{
+    const double *restrict pres = sc->pres + m * n;
+    size_t s;
+    for (s = 0; s < n; s++) rw[s] = sc->w[s] * pres[s];
+}
+
+/* Weighted residuals rd = rw * (value - measured) of channel m. */
+static void weighted_residuals(const bf_scratch *sc, size_t m, size_t n, double *restrict rd)
+{
+    const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
+    const double *restrict rw = sc->ww;
+    size_t s;
+    for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
+}
+
+static void scale_rows(double *restrict x, const double *restrict rw, size_t n)
+{
+    size_t s;
+    for (s = 0; s < n; s++) x[s] *= rw[s];
+}
+
+/* J^T J (upper triangle) and J^T r of channel m's weighted rows. */
+static void normal_channel(const bf_problem *pb, const double *jac, size_t m, size_t n,
+                           const double *d, double *jtr, double *jtj)
+{
+    size_t nv = pb->ly.n_vec, np = pb->ly.n_params, nc = pb->nc, k, l;
+    for (k = 0; k < np; k++) {
+        const double *jk = jac + (k * nc + m) * n;
+        size_t a = pb->vindex[k * nc + m];
+        jtr[a] += bf_pass_dot(jk, d, n);
+        for (l = k; l < np; l++) {
+            size_t b = pb->vindex[l * nc + m];
+            size_t lo = a < b ? a : b, hi = a < b ? b : a;
+            jtj[lo * nv + hi] += bf_pass_dot(jk, jac + (l * nc + m) * n, n);
+        }
+    }
+}
+
+/* J^T J, J^T r and the cost of the weighted rows: every Jacobian column is
+ * scaled by the row weight in place, then all sums are plain dot products. */
+static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac, size_t n)
+{
+    size_t np = pb->ly.n_params, nc = pb->nc, m, k;
+    for (m = 0; m < nc; m++) {
+        row_weights(sc, m, n, sc->ww);
+        weighted_residuals(sc, m, n, sc->d);
+        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
+        for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
+        normal_channel(pb, jac, m, n, sc->d, sc->acc + 1, sc->acc + 1 + pb->ly.n_vec);
+    }
+}
+
+/* Gram matrix of the weighted linear columns and their products with the
+ * weighted measurement. */
+static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac, size_t n)
+{
+    size_t K = pb->ly.n_linear, stride = 1 + K + K * K, nc = pb->nc, m, q, r;
+    const size_t *lin = pb->ly.linear;
+    for (m = 0; m < nc; m++) {
+        double *acc = sc->acc + m * stride, *b = acc + 1, *G = acc + 1 + K;
+        double *rm = sc->d;
+        row_weights(sc, m, n, sc->ww);
+        memcpy(rm, sc->meas + m * n, n * sizeof *rm);
+        scale_rows(rm, sc->ww, n);
+        acc[0] += bf_pass_dot(rm, rm, n);
+        for (q = 0; q < K; q++) scale_rows(jac + (lin[q] * nc + m) * n, sc->ww, n);
+        for (q = 0; q < K; q++) {
+            const double *bq = jac + (lin[q] * nc + m) * n;
+            b[q] += bf_pass_dot(bq, rm, n);
+            for (r = q; r < K; r++) G[q * K + r] += bf_pass_dot(bq, jac + (lin[r] * nc + m) * n, n);
+        }
+    }
+}
+
+static void accumulate_cost(const bf_problem *pb, bf_scratch *sc, size_t n)
+{
+    size_t m;
+    for (m = 0; m < pb->nc; m++) {
+        row_weights(sc, m, n, sc->ww);
+        weighted_residuals(sc, m, n, sc->d);
+        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
+    }
+}
+
+static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const double *lz, size_t n)
+{
+    size_t m, s;
+    for (m = 0; m < pb->nc; m++) {
+        const double *meas = sc->meas + m * n, *val = sc->vals + m * n, *pres = sc->pres + m * n;
+        double *acc = sc->acc + 4 * m;
+        for (s = 0; s < n; s++) {
+            double d = val[s] - meas[s], c = lz[s] > 0.0 ? lz[s] : 0.0;
+            acc[0] += pres[s] * d * d;
+            acc[1] += pres[s] * sc->wsa[s] * c * c * d * d;
+            acc[2] += pres[s] * sc->wsa[s];
+            acc[3] += pres[s] * sc->w[s] * sc->w[s] * d * d;
+        }
+    }
+}
+
+static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                                    bf_scratch *sc, const brdffit_batch *batch,
+                                    brdffit_error *err)
+{
+    double *jac = wants_jacobian(kind) ? sc->own : NULL;
+    size_t n = batch->n;
+    brdffit_status status = bf_model_eval(pb->model, batch, params, pb->nc, sc->vals, jac, err);
+    if (status != BRDFFIT_OK) return status;
+    switch (kind) {
+    case BF_PASS_COST: accumulate_cost(pb, sc, n); break;
+    case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, n); break;
+    case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, n); break;
+    case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
+    }
+    return BRDFFIT_OK;
+}
+
+static void generic_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                           const double *part, double *acc)
+{
+    (void)params;
+    memcpy(acc, part, bf_pass_acc_size(pb, kind) * sizeof *acc);
+}
+
+const bf_route bf_route_generic = {
+    (1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) | (1u << BF_PASS_VARPRO) |
+        (1u << BF_PASS_METRICS),
+    generic_serves, bf_pass_acc_size, generic_scratch_size, generic_chunk, generic_finish};

@@ -1,0 +1,46 @@
+/* The routes of a pass: how one chunk of samples is accumulated. The
+ * driver (pass.c) loads the weights and the measured values of a chunk and
+ * hands them to the problem's route: the generic route (pass_generic.c,
+ * any model, through its evaluation callback) or the basis route
+ * (pass_basis.c, models in basis form). A new route is one more bf_route
+ * and one more line in the table of pass.c. Not installed. */
+#ifndef BRDFFIT_FIT_PASS_ROUTE_H
+#define BRDFFIT_FIT_PASS_ROUTE_H
+
+#include <stddef.h>
+
+#include "fit/pass.h"
+
+/* Per-thread scratch, carved out of one allocation. */
+typedef struct bf_scratch {
+    double *w, *wsa, *ww, *d;  /* BF_CHUNK each */
+    double *meas, *pres;       /* nc * BF_CHUNK: measured value, 1 if present else 0 */
+    double *vals;              /* nc * BF_CHUNK */
+    double *own;               /* the route's scratch_size() doubles */
+    double *acc;               /* the thread's accumulator, acc_size() doubles */
+} bf_scratch;
+
+typedef struct bf_route {
+    /* bit (1 << kind): the kinds of pass this route accumulates; the
+     * generic route takes the others */
+    unsigned kinds;
+    /* whether the route can serve the problem */
+    int (*serves)(const bf_problem *pb);
+    /* doubles of the route's per-thread accumulator and own scratch */
+    size_t (*acc_size)(const bf_problem *pb, bf_pass_kind kind);
+    size_t (*scratch_size)(const bf_problem *pb);
+    /* accumulate the chunk of `batch` (weights and measured values in sc) */
+    brdffit_status (*chunk)(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                            bf_scratch *sc, const brdffit_batch *batch, brdffit_error *err);
+    /* turn the summed accumulators into the layout of pass.h */
+    void (*finish)(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                   const double *part, double *acc);
+} bf_route;
+
+extern const bf_route bf_route_generic; /* pass_generic.c */
+extern const bf_route bf_route_basis;   /* pass_basis.c */
+
+/* Sum of a[s] * b[s] in a fixed order (four partial sums). */
+double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n);
+
+#endif /* BRDFFIT_FIT_PASS_ROUTE_H */

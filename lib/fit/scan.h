@@ -1,0 +1,50 @@
+/* The auto pipeline's global scan: the profile cost (varpro.h) over a grid
+ * of the shared, free, non-linear parameters (log-spaced for log-scale
+ * ones), its local minima kept as candidates, and a golden-section
+ * refinement of competing minima of one parameter. Not installed. */
+#ifndef BRDFFIT_FIT_SCAN_H
+#define BRDFFIT_FIT_SCAN_H
+
+#include <stddef.h>
+
+#include "fit/stage.h"
+
+#define BF_MAX_DIMS 8
+#define BF_MAX_CANDIDATES 3
+
+typedef struct bf_scan_dim {
+    size_t entry; /* vector entry */
+    int log;      /* scanned in log space */
+    double lo, hi;/* scan coordinates */
+    size_t count; /* grid points */
+} bf_scan_dim;
+
+typedef struct bf_candidate {
+    double cost;
+    double u[BF_MAX_DIMS]; /* scan coordinates */
+} bf_candidate;
+
+typedef struct bf_scan {
+    bf_scan_dim dims[BF_MAX_DIMS];
+    size_t nd;
+    bf_candidate best[BF_MAX_CANDIDATES]; /* best first */
+    size_t n_best;
+} bf_scan;
+
+/* Scan the stage's shared free non-linear entries and keep the best local
+ * minima in sc->best (with no such entry, one candidate of cost 0 at the
+ * start values). A cancel leaves the points not reached out. */
+brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc);
+
+/* Refine candidates [0, n) along the single scan dimension. */
+brdffit_status bf_scan_refine(bf_stage *st, bf_scan *sc, size_t n);
+
+/* Set st->p to the start values with the scan entries at coordinates u. */
+void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u);
+
+/* The profile cost at scan coordinates u, st->p set to the point with its
+ * best colours; HUGE_VAL without evaluating when the fit is cancelled. */
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
+                                  double *cost);
+
+#endif

@@ -1,0 +1,14 @@
+/* Variable projection: the profile cost of the shape parameters, the
+ * linear (colour) parameters solved exactly and inside their bounds for
+ * every channel (fit/lsq.h). Not installed. */
+#ifndef BRDFFIT_FIT_VARPRO_H
+#define BRDFFIT_FIT_VARPRO_H
+
+#include "fit/stage.h"
+
+/* The profile cost at the natural point st->p (shape entries set, linear
+ * entries ignored): the best bounded colours of every channel are written
+ * into st->p and the cost into *cost. Needs bf_layout_projectable(). */
+brdffit_status bf_varpro_profile(bf_stage *st, double *cost);
+
+#endif

@@ -1,0 +1,52 @@
+/* The basis form of the built-in models, as the rest of the library sees
+ * it (the fit's basis pass). Not installed.
+ *
+ * A built-in model is value_c(s) = sum over linear parameters m of
+ * p_{m,c} B_m(s; theta), theta its shared shape parameters, declared first,
+ * then the per-channel linear colours (docs/models.md). A kernel computes
+ * the basis functions B_m and their derivatives dB_m/dtheta_k for a block of
+ * samples; the caller combines them with the colours. The kernel itself is
+ * opaque: read it through the functions below. */
+#ifndef BRDFFIT_MODELS_BASIS_H
+#define BRDFFIT_MODELS_BASIS_H
+
+#include <stddef.h>
+
+#include "brdffit/model.h"
+
+/* Samples per basis block (the buffers live on the stack). */
+#define BF_KERNEL_BLOCK 64
+#define BF_KERNEL_MAX_SHAPE 3
+#define BF_KERNEL_MAX_LINEAR 3
+
+/* Basis values b[m][i] and derivatives db[k][m][i] of one block. Entries
+ * whose (k, m) pair is not in the kernel's dependency mask are never read. */
+typedef struct bf_basis {
+    double b[BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
+    double db[BF_KERNEL_MAX_SHAPE][BF_KERNEL_MAX_LINEAR][BF_KERNEL_BLOCK];
+} bf_basis;
+
+typedef struct bf_kernel bf_kernel;
+
+/* The shape of a kernel's basis. */
+typedef struct bf_basis_form {
+    size_t n_shape;                    /* K <= BF_KERNEL_MAX_SHAPE */
+    size_t n_linear;                   /* L <= BF_KERNEL_MAX_LINEAR */
+    unsigned dep[BF_KERNEL_MAX_SHAPE]; /* bit m set: B_m depends on shape k */
+} bf_basis_form;
+
+/* The model's kernel when every parameter of the model belongs to its
+ * basis form (K shape parameters, then L linear ones), else NULL (user
+ * models). */
+const bf_kernel *bf_model_basis(const brdffit_model *m);
+
+/* The form of kernel k. */
+void bf_kernel_form(const bf_kernel *k, bf_basis_form *out);
+
+/* Fill the basis of samples [first, first + count) of the batch
+ * (count <= BF_KERNEL_BLOCK) at the shape parameters `shape` (the first K
+ * entries of the parameter vector). */
+void bf_kernel_basis(const bf_kernel *k, const brdffit_batch *batch, size_t first, size_t count,
+                     const double *shape, bf_basis *out);
+
+#endif /* BRDFFIT_MODELS_BASIS_H */
