@@ -36,7 +36,7 @@ static const brdffit_param_info *param(const verdict *v, size_t k)
 
 static double value(const verdict *v, size_t k, size_t c)
 {
-    return v->fit->params[brdffit_model_vector_index(v->fit->model, k, c, v->fit->nc)];
+    return v->fit->result.params[brdffit_model_vector_index(v->fit->model, k, c, v->fit->nc)];
 }
 
 static int is_shape(const verdict *v, size_t k)
@@ -156,7 +156,7 @@ static unsigned fresnel(verdict *v)
 
 static unsigned stop(verdict *v)
 {
-    brdffit_stop_reason r = v->fit->stop;
+    brdffit_stop_reason r = v->fit->result.stop;
     if (r == BRDFFIT_STOP_MAX_ITERATIONS || r == BRDFFIT_STOP_MAX_EVALUATIONS)
         return say(v, BRDFFIT_WARN_ITERATION_LIMIT, "the last optimizer run ended at its %s",
                    r == BRDFFIT_STOP_MAX_ITERATIONS ? "iteration limit" : "evaluation limit");
