@@ -45,7 +45,7 @@ extern "C" {
  *   one channel column follows; channel names are free but not empty.
  * - Every data line has as many fields as the header. Fields are trimmed.
  *   A channel field that is empty or "nan" (any case) marks a missing
- *   value. Numbers are [+-]digits[.digits][(e|E)[+-]digits] (".5" and
+ *   value. Negative values are data (measurement noise) and kept. Numbers are [+-]digits[.digits][(e|E)[+-]digits] (".5" and
  *   "5." too), read exactly as written (correctly rounded, whatever the
  *   C locale says): a value printed with %.17g loads back unchanged.
  * - Angles: theta in [0, 90]; phi in [-360, 360] in the scattered form and
@@ -65,7 +65,7 @@ extern "C" {
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_IO (missing or unreadable file);
  *         ::BRDFFIT_E_PARSE (empty file, no data rows, unknown header,
  *         wrong column count, malformed number, missing angle);
- *         ::BRDFFIT_E_RANGE (negative or infinite value, angle out of
+ *         ::BRDFFIT_E_RANGE (infinite value, angle out of
  *         range, two axis values in degrees that coincide in radians);
  *         ::BRDFFIT_E_INCOMPLETE_GRID (naming one missing combination in
  *         degrees); ::BRDFFIT_E_DUPLICATE (naming the combination and both

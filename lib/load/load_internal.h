@@ -31,6 +31,33 @@ void bf_file_close(bf_file *f);
 brdffit_status bf_file_read_all(const char *path, size_t max_size, const brdffit_allocator *alloc,
                                 char **data, size_t *size, brdffit_error *err);
 
+/* ---- text: lines (ending in '\n' or "\r\n") and fields ---- */
+
+typedef struct bf_line {
+    const char *p;
+    size_t len;    /* without the line end */
+    size_t number; /* 1-based */
+} bf_line;
+
+typedef struct bf_text {
+    const char *data;
+    size_t size, pos, line;
+} bf_text;
+
+/* Start reading data[0..size), skipping a UTF-8 byte order mark. */
+void bf_text_init(bf_text *r, const char *data, size_t size);
+/* The next line; 0 at the end of the text. */
+int bf_text_next_line(bf_text *r, bf_line *out);
+/* The next line that is not blank (spaces and tabs only) and does not
+ * start (after blanks) with `comment` ('\0': no comments). */
+int bf_text_next_data_line(bf_text *r, bf_line *out, char comment);
+int bf_line_blank(const bf_line *l, char comment);
+int bf_is_blank(char c);
+/* Trim spaces and tabs from both ends. */
+void bf_trim(const char **p, size_t *len);
+/* A printable excerpt of p[0..len) for messages, cut with "...". */
+void bf_excerpt(char *buf, size_t size, const char *p, size_t len);
+
 /* Outcome of parsing one decimal number. */
 typedef enum bf_number_kind {
     BF_NUMBER_OK = 0,       /* *value holds the correctly rounded value */

@@ -217,7 +217,7 @@ class GridFromCsv(unittest.TestCase):
 
     def test_errors_name_the_place(self):
         cases = [
-            ("theta_i,theta_o,phi_o,r\n0,0,0,-1\n", Status.E_RANGE, "line 2, column 4"),
+            ("theta_i,theta_o,phi_o,r\n0,0,0,-inf\n", Status.E_RANGE, "line 2, column 4"),
             ("theta_i,theta_o,phi_o,r\n0,95,0,1\n", Status.E_RANGE, "line 2, column 2"),
             ("theta_i,theta_o,phi_o,r\n0,0,0\n", Status.E_PARSE, "line 2"),
             ("theta_i,theta_o,phi_o,r\n0,0,0,1\n0,0,90,1\n10,0,0,1\n",
@@ -294,10 +294,16 @@ class GridBadInput(unittest.TestCase):
         return cm.exception
 
     def test_values_rejected_by_the_library(self):
-        for bad in (np.nan, -1.0, np.inf):
+        for bad in (np.nan, -np.inf, np.inf):
             v = self.values.copy()
             v[10, 0] = bad
             self.expect(Status.E_RANGE, Grid.from_regular, *self.axes, v)
+
+    def test_negative_values_are_data(self):
+        v = self.values.copy()
+        v[10, 0] = -1e-3
+        g = Grid.from_regular(*self.axes, v)
+        self.assertEqual(g.values[10, 0], -1e-3)
 
     def test_axes_rejected_by_the_library(self):
         ti, to, po = self.axes

@@ -138,7 +138,7 @@ class Grid(Handle):
         Raises:
             ValueError: for arrays of the wrong shape.
             BrdffitError: what the library rejects, e.g. ``E_RANGE`` for a
-                negative or non-finite value, ``E_INVALID_ARGUMENT`` for
+                non-finite value (negative values are data), ``E_INVALID_ARGUMENT`` for
                 unsorted axes.
         """
         axes, arrays = _axes_struct(theta_i, theta_o, phi_o)
