@@ -151,6 +151,71 @@ BRDFFIT_API brdffit_status brdffit_load_merl_buffer(brdffit_grid **out, const vo
                                                     const brdffit_allocator *alloc,
                                                     brdffit_error *err);
 
+/**
+ * @brief Load a BRDF of the RGL material database (a `.bsdf` tensor file;
+ *        Dupuy and Jakob 2018, "An Adaptive Parameterization for Efficient
+ *        Material Acquisition and Rendering"), the format of Mitsuba's
+ *        `measured` plugin. See docs/formats.md.
+ *
+ * The file is a "tensor_file" container of named float32 fields: theta_i
+ * and phi_i (the light directions, radians), vndf (the warp of every light
+ * direction), ndf and sigma, the uint8 jacobian flag, and the values:
+ * "rgb" (3 channels) when present, else "spectra" with one channel per
+ * entry of "wavelengths". The stored values are f_r cos theta_o; the grid
+ * holds f_r in 1/sr (values whose view has cos theta_o <= 1e-6 are left
+ * out, or marked missing when resampled).
+ *
+ * With @p axes NULL the result is a scattered grid of the samples as
+ * measured: every stored sample of every light direction, at the view the
+ * format's warp gives it, with its solid angle (its cell of the warp's
+ * unit square times the warp's d omega / d s) as the sample weight, in the
+ * input order light by light. With @p axes the BRDF is evaluated at every
+ * sample of the axes (light at azimuth pi) as the reference reader
+ * evaluates it: the inverse warp of the half vector, the values
+ * interpolated bilinearly there and linearly between the file's light
+ * directions.
+ *
+ * @param[out] out Receives the grid; NULL on failure.
+ * @param path     File name.
+ * @param axes     NULL for the samples as measured, or the axes to
+ *                 resample onto (brdffit_axes_default() for the thesis's
+ *                 layout).
+ * @param alloc    Allocator for the grid and the temporary arrays, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_IO; ::BRDFFIT_E_FORMAT (not a tensor
+ *         file, a field missing, of the wrong type or shape, or lying
+ *         outside the file, naming it); ::BRDFFIT_E_RANGE (non-finite
+ *         values, a negative density, light angles out of range, naming
+ *         the field and index); ::BRDFFIT_E_NO_DATA (no sample with its
+ *         view above the horizon); ::BRDFFIT_E_UNSUPPORTED (resampling an
+ *         anisotropic file measured over a fraction of the light
+ *         azimuths, which the reference reader does not evaluate either);
+ *         ::BRDFFIT_E_INVALID_ARGUMENT (NULL arguments, empty axes);
+ *         ::BRDFFIT_E_TOO_LARGE (more than 2^31 values);
+ *         ::BRDFFIT_E_OUT_OF_MEMORY. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_load_rgl(brdffit_grid **out, const char *path,
+                                            const brdffit_axes *axes,
+                                            const brdffit_allocator *alloc,
+                                            brdffit_error *err);
+
+/**
+ * @brief Load an RGL `.bsdf` file from memory; as brdffit_load_rgl()
+ *        otherwise.
+ * @param[out] out Receives the grid; NULL on failure.
+ * @param data     The file's bytes (borrowed for the call).
+ * @param size     Number of bytes.
+ * @param axes     NULL for the samples as measured, or the axes to
+ *                 resample onto.
+ * @param alloc    Allocator, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return As brdffit_load_rgl(), without ::BRDFFIT_E_IO.
+ */
+BRDFFIT_API brdffit_status brdffit_load_rgl_buffer(brdffit_grid **out, const void *data,
+                                                   size_t size, const brdffit_axes *axes,
+                                                   const brdffit_allocator *alloc,
+                                                   brdffit_error *err);
+
 #ifdef __cplusplus
 }
 #endif

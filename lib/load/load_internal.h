@@ -7,10 +7,20 @@
 #include <stdio.h>
 
 #include "brdffit/alloc.h"
+#include "brdffit/grid.h"
 #include "brdffit/status.h"
 
 /* Largest number of values a loader accepts (2^31). */
 #define BF_LOAD_MAX_VALUES ((size_t)1 << 31)
+
+/* The checks every loader makes first: out not NULL (and set to NULL),
+ * in not NULL, a complete allocator (copied into *a), and axes (when not
+ * NULL) not empty and of at most 2^31 combinations. */
+brdffit_status bf_load_begin(brdffit_grid **out, const void *in, const brdffit_axes *axes,
+                             const brdffit_allocator *alloc, brdffit_allocator *a,
+                             brdffit_error *err);
+/* Number of combinations of the axes, checked as bf_load_begin() does. */
+brdffit_status bf_load_axes_count(const brdffit_axes *axes, size_t *n_samples, brdffit_error *err);
 
 /* An open file whose size is known. */
 typedef struct bf_file {
