@@ -1,7 +1,8 @@
 /**
  * @file load.h
- * @brief The minimal loader: CSV (SPEC section 2b) and MERL binary (SPEC
- *        section 9). The library's only file I/O.
+ * @brief The loaders: CSV, MERL binary, ASTM E1392 text and RGL .bsdf
+ *        (docs/formats.md, with each format's published source). The
+ *        library's only file I/O.
  *
  * Every loader returns a new grid owned by the caller, or an error with a
  * message naming what is wrong and where (line and column for CSV). No
@@ -148,6 +149,69 @@ BRDFFIT_API brdffit_status brdffit_load_merl(brdffit_grid **out, const char *pat
  */
 BRDFFIT_API brdffit_status brdffit_load_merl_buffer(brdffit_grid **out, const void *data,
                                                     size_t size, const brdffit_axes *axes,
+                                                    const brdffit_allocator *alloc,
+                                                    brdffit_error *err);
+
+/**
+ * @brief Load an ASTM E1392 file (the text format of ASTM E1392, "Standard
+ *        Practice for Angle Resolved Optical Scatter Measurements on
+ *        Specular or Diffuse Surfaces", used by the Cornell
+ *        gonioreflectometer measurements). See docs/formats.md.
+ *
+ * The result is a scattered grid, one sample per data row, in file order.
+ * The format in detail:
+ * - Lines end in '\n' or "\r\n"; blank lines are ignored anywhere.
+ * - The header: lines that start with a keyword (an upper-case letter,
+ *   then letters, digits or '_'), such as SOURCE, SAMPLE, NUM_POINTS. Only
+ *   two are read: NUM_POINTS (if given, the number of data rows must
+ *   equal it) and VARS, which ends the header and names the columns,
+ *   separated by commas (names may then hold blanks) or by blanks.
+ * - Columns: theta_i, phi_i (optional; 0 when absent), theta_s and phi_s
+ *   (theta_r/phi_r and theta_o/phi_o are accepted too), any case, in any
+ *   order; every other column is a channel (R, G, B, spectral bands such
+ *   as "550nm", ...), in the order of VARS. At least one channel.
+ * - Data rows: one value per VARS name, separated by commas, blanks or
+ *   both; numbers as for brdffit_load_csv(). A value that is "nan" or
+ *   empty (two commas) is missing; negative values are data; infinite
+ *   values are refused.
+ * - Angles are degrees, as the standard has them. A file whose every polar
+ *   angle is within pi/2 and every azimuth within 2 pi in magnitude is read
+ *   as radians (the convention of some public files and readers; no real
+ *   measurement in degrees stays within 1.6 degrees). |theta| <= 90
+ *   degrees; a negative polar angle is the direction on the other side of
+ *   the normal, (|theta|, phi + 180 degrees); |phi| <= 360 degrees.
+ * Messages name the line and, for a field, the column with its VARS name,
+ * for example "line 14, column 5 (R): malformed number '0.1x'".
+ *
+ * @param[out] out Receives the grid; NULL on failure.
+ * @param path     File name.
+ * @param alloc    Allocator for the grid, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_IO; ::BRDFFIT_E_PARSE (no header, no
+ *         VARS, an angle column missing or named twice, no channel, a row
+ *         with the wrong number of values, a malformed number, a missing
+ *         angle, a row count other than NUM_POINTS); ::BRDFFIT_E_RANGE
+ *         (an infinite value or angle, an angle out of range);
+ *         ::BRDFFIT_E_TOO_LARGE (more than 2^31 values);
+ *         ::BRDFFIT_E_OUT_OF_MEMORY; ::BRDFFIT_E_INVALID_ARGUMENT for NULL
+ *         arguments or an incomplete allocator. Thread-safe.
+ */
+BRDFFIT_API brdffit_status brdffit_load_astm(brdffit_grid **out, const char *path,
+                                             const brdffit_allocator *alloc,
+                                             brdffit_error *err);
+
+/**
+ * @brief Load ASTM E1392 text from memory; as brdffit_load_astm() otherwise.
+ * @param[out] out Receives the grid; NULL on failure.
+ * @param data     Text, not necessarily NUL-terminated (borrowed for the
+ *                 call); exactly @p size bytes are read.
+ * @param size     Bytes of @p data.
+ * @param alloc    Allocator for the grid, or NULL.
+ * @param[out] err NULL, or the detail on failure.
+ * @return As brdffit_load_astm(), without ::BRDFFIT_E_IO.
+ */
+BRDFFIT_API brdffit_status brdffit_load_astm_buffer(brdffit_grid **out, const char *data,
+                                                    size_t size,
                                                     const brdffit_allocator *alloc,
                                                     brdffit_error *err);
 
