@@ -65,7 +65,7 @@ static void fuzz_check_failure(brdffit_status st, const brdffit_grid *g, const b
     fuzz_require(err->message[0] != '\0');
 }
 
-/* Every value finite and >= 0, missing ones 0; weights and interpolation
+/* Every value finite (negative values are data), missing ones 0; weights and interpolation
  * finite as well. */
 static void fuzz_check_grid(const brdffit_grid *g)
 {
