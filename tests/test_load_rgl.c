@@ -275,7 +275,7 @@ static void test_format_errors(void **state)
     FRESH(), h = field_header(copy, size, "sigma"), h[2 + 5] = 9;
     expect_error(copy, size, NULL, BRDFFIT_E_FORMAT, "more than the 8 allowed");
     FRESH(), h = field_header(copy, size, "rgb"), h[2] = 'n', h[3] = 'd', h[4] = 'f';
-    expect_error(copy, size, NULL, BRDFFIT_E_FORMAT, "'ndf' is given twice");
+    expect_error(copy, size, NULL, BRDFFIT_E_FORMAT, "field 'ndf' is given twice");
     free(copy), free(file);
     sp.theta_i[4] = DEG(95.0);
     file = fx_rgl_file(&sp, &size);

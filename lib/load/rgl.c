@@ -16,9 +16,11 @@ static brdffit_status get_field(const bf_tensor *t, const char *name, int dtype,
                                 const size_t *want, const bf_tensor_field **out,
                                 brdffit_error *err)
 {
-    const bf_tensor_field *f = bf_tensor_find(t, name);
+    int twice;
+    const bf_tensor_field *f = bf_tensor_find(t, name, &twice);
     size_t k;
     if (f == NULL) return bf_fail(err, BRDFFIT_E_FORMAT, "RGL file has no field '%s'", name);
+    if (twice) return bf_fail(err, BRDFFIT_E_FORMAT, "RGL field '%s' is given twice", name);
     if (f->dtype != dtype)
         return bf_fail(err, BRDFFIT_E_FORMAT, "RGL field '%s' has type code %d, expected %d (%s)",
                        name, f->dtype, dtype, dtype == BF_DTYPE_UINT8 ? "uint8" : "float32");
@@ -102,8 +104,9 @@ static brdffit_status read_values(rgl_file *f, const brdffit_allocator *a, brdff
     size_t want[5] = {0, 0, 3, 0, 0};
     const bf_tensor_field *wl;
     const char *name = "rgb";
+    int twice;
     want[0] = f->n_phi, want[1] = f->n_theta;
-    if (bf_tensor_find(&f->t, "rgb") == NULL) {
+    if (bf_tensor_find(&f->t, "rgb", &twice) == NULL) {
         name = "spectra";
         BF_RETURN_IF_ERROR(get_field(&f->t, "wavelengths", BF_DTYPE_FLOAT32, 1, NULL, &wl, err));
         want[2] = wl->count;

@@ -122,7 +122,7 @@ brdffit_status bf_tensor_parse(bf_tensor *t, const unsigned char *data, size_t s
                                const brdffit_allocator *a, brdffit_error *err)
 {
     cursor c = {data, size, TENSOR_HEADER};
-    size_t k, j, n = 0;
+    size_t k, n = 0;
     memset(t, 0, sizeof *t);
     BF_RETURN_IF_ERROR(check_header(data, size, &n, err));
     t->fields = bf_calloc(a, n > 0 ? n : 1, sizeof(bf_tensor_field));
@@ -130,10 +130,6 @@ brdffit_status bf_tensor_parse(bf_tensor *t, const unsigned char *data, size_t s
         return bf_fail(err, BRDFFIT_E_OUT_OF_MEMORY, "out of memory reading a tensor file");
     for (k = 0; k < n; k++) {
         brdffit_status st = read_field(&c, &t->fields[k], k, err);
-        for (j = 0; st == BRDFFIT_OK && j < k; j++)
-            if (same_name(&t->fields[j], t->fields[k].name, t->fields[k].name_len))
-                st = bf_fail(err, BRDFFIT_E_FORMAT, "tensor field '%.*s' is given twice",
-                             (int)t->fields[k].name_len, t->fields[k].name);
         if (st != BRDFFIT_OK) {
             bf_tensor_free(t, a);
             return st;
@@ -150,12 +146,17 @@ void bf_tensor_free(bf_tensor *t, const brdffit_allocator *a)
     t->n = 0;
 }
 
-const bf_tensor_field *bf_tensor_find(const bf_tensor *t, const char *name)
+const bf_tensor_field *bf_tensor_find(const bf_tensor *t, const char *name, int *twice)
 {
+    const bf_tensor_field *found = NULL;
     size_t k;
-    for (k = 0; k < t->n; k++)
-        if (same_name(&t->fields[k], name, strlen(name))) return &t->fields[k];
-    return NULL;
+    *twice = 0;
+    for (k = 0; k < t->n; k++) {
+        if (!same_name(&t->fields[k], name, strlen(name))) continue;
+        if (found != NULL) *twice = 1;
+        if (found == NULL) found = &t->fields[k];
+    }
+    return found;
 }
 
 double bf_tensor_f32(const bf_tensor_field *f, size_t i)

@@ -35,8 +35,10 @@ typedef struct bf_tensor {
 brdffit_status bf_tensor_parse(bf_tensor *t, const unsigned char *data, size_t size,
                                const brdffit_allocator *a, brdffit_error *err);
 void bf_tensor_free(bf_tensor *t, const brdffit_allocator *a);
-/* The field of that name, or NULL. */
-const bf_tensor_field *bf_tensor_find(const bf_tensor *t, const char *name);
+/* The field of that name, or NULL; *twice tells whether the name is given
+ * more than once (names are only checked where they are looked up, so the
+ * cost stays linear in the number of fields). */
+const bf_tensor_field *bf_tensor_find(const bf_tensor *t, const char *name, int *twice);
 /* Element i of a float32 field. */
 double bf_tensor_f32(const bf_tensor_field *f, size_t i);
 /* Whether the bytes start like a tensor file. */
