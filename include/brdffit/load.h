@@ -30,7 +30,7 @@ extern "C" {
 #endif
 
 /**
- * @brief Load a CSV file in either form of SPEC section 2b.
+ * @brief Load a CSV file in either of its two forms (docs/formats.md).
  *
  * The grid form (header theta_i,theta_o,phi_o,...) gives a regular grid,
  * the scattered form (theta_i,phi_i,theta_o,phi_o,...) a scattered grid.
@@ -95,7 +95,7 @@ BRDFFIT_API brdffit_status brdffit_load_csv_buffer(brdffit_grid **out, const cha
                                                    brdffit_error *err);
 
 /**
- * @brief Load a MERL binary file (SPEC section 9).
+ * @brief Load a MERL binary file (docs/formats.md).
  *
  * The file: three little-endian int32 (90, 90, 180), then 3 x 90 x 90 x
  * 180 little-endian doubles (red, green, blue), 34,992,012 bytes in all.
