@@ -104,6 +104,24 @@ static void print_values(const brdffit_grid *g)
     }
 }
 
+static void print_summary(const brdffit_grid *g, const char *path, const char *what)
+{
+    size_t n = brdffit_grid_sample_count(g), nc = brdffit_grid_channel_count(g);
+    size_t in_cap = brdffit_grid_active_count(g, BRDFFIT_DEFAULT_CAP);
+    printf("%-10s %s\n", "file", path);
+    printf("%-10s %s\n", "format", what);
+    printf("%-10s %s\n", "form",
+           brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR ? "regular" : "scattered");
+    if (brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR) print_axes(g);
+    print_angles(g);
+    printf("%-10s %zu\n", "channels", nc);
+    printf("%-10s %zu (%zu values)\n", "samples", n, n * nc);
+    printf("%-10s %zu values\n", "missing", brdffit_grid_missing_count(g));
+    print_values(g);
+    printf("%-10s %zu samples with theta_i, theta_o <= 75 deg; %zu outside (%.1f %%)\n",
+           "in cap", in_cap, n - in_cap, 100.0 * (double)(n - in_cap) / (double)n);
+}
+
 int cli_cmd_info(int argc, char **argv)
 {
     static const cli_option options[] = {{"help", 0}, {NULL, 0}};
@@ -112,7 +130,6 @@ int cli_cmd_info(int argc, char **argv)
     brdffit_grid *g = NULL;
     char msg[CLI_MSG_SIZE];
     int r;
-    size_t n, nc, in_cap;
     cli_args_init(&a, argc, argv, options);
     while ((r = cli_next(&a, &name, &value)) > 0) {
         if (name != NULL) {
@@ -128,21 +145,7 @@ int cli_cmd_info(int argc, char **argv)
         cli_error(path, "%s", msg);
         return CLI_FAILED;
     }
-    n = brdffit_grid_sample_count(g);
-    nc = brdffit_grid_channel_count(g);
-    printf("%-10s %s\n", "file", path);
-    printf("%-10s %s\n", "format", what);
-    printf("%-10s %s\n", "form",
-           brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR ? "regular" : "scattered");
-    if (brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR) print_axes(g);
-    print_angles(g);
-    printf("%-10s %zu\n", "channels", nc);
-    printf("%-10s %zu (%zu values)\n", "samples", n, n * nc);
-    printf("%-10s %zu values\n", "missing", brdffit_grid_missing_count(g));
-    print_values(g);
-    in_cap = brdffit_grid_active_count(g, BRDFFIT_DEFAULT_CAP);
-    printf("%-10s %zu samples with theta_i, theta_o <= 75 deg; %zu outside (%.1f %%)\n",
-           "in cap", in_cap, n - in_cap, 100.0 * (double)(n - in_cap) / (double)n);
+    print_summary(g, path, what);
     brdffit_grid_destroy(g);
     return CLI_OK;
 }

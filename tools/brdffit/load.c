@@ -1,7 +1,8 @@
 /* Loading a measurement: the file is read once (a pipe or FIFO works too)
  * and its format told from its content, never from its name: MERL binary
  * (the int32 dimensions 90, 90, 180 first), RGL .bsdf (a "tensor_file"),
- * ASTM E1392 (a header keyword first: an upper-case word), else CSV. */
+ * ASTM E1392 (a header keyword first: an upper-case word), else CSV; other
+ * binary content goes to the MERL loader, which names what is wrong. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,6 +50,13 @@ static int read_all(const char *path, unsigned char **data, size_t *size, char *
     return 1;
 }
 
+/* A NUL byte early on: binary, so MERL (the only other binary format),
+ * whose loader then says what is wrong with the header or size. */
+static int looks_binary(const unsigned char *p, size_t n)
+{
+    return memchr(p, '\0', n < 512 ? n : 512) != NULL;
+}
+
 /* ASTM E1392 text starts (after blank lines) with an upper-case keyword. */
 static int looks_like_astm(const unsigned char *p, size_t n)
 {
@@ -67,12 +75,13 @@ brdffit_status cli_load(const char *path, brdffit_grid **grid, const char **what
     *grid = NULL;
     *what = "unreadable";
     if (!read_all(path, &d, &n, msg, msg_size)) return BRDFFIT_E_IO;
-    if (n >= 12 && le32(d) == 90 && le32(d + 4) == 90 && le32(d + 8) == 180) {
-        *what = "MERL binary, resampled onto the default axes";
-        st = brdffit_load_merl_buffer(grid, d, n, brdffit_axes_default(), NULL, &err);
-    } else if (n >= 12 && memcmp(d, "tensor_file", 12) == 0) {
+    if (n >= 12 && memcmp(d, "tensor_file", 12) == 0) {
         *what = "RGL .bsdf, the samples as measured";
         st = brdffit_load_rgl_buffer(grid, d, n, NULL, NULL, &err);
+    } else if ((n >= 12 && le32(d) == 90 && le32(d + 4) == 90 && le32(d + 8) == 180) ||
+               looks_binary(d, n)) {
+        *what = "MERL binary, resampled onto the default axes";
+        st = brdffit_load_merl_buffer(grid, d, n, brdffit_axes_default(), NULL, &err);
     } else if (looks_like_astm(d, n)) {
         *what = "ASTM E1392";
         st = brdffit_load_astm_buffer(grid, (const char *)d, n, NULL, &err);
