@@ -113,6 +113,17 @@ static void test_three_angles_and_bands(void **state)
     assert_int_equal(brdffit_grid_values(g, 1, &v), BRDFFIT_OK);
     assert_true(v[0] == 0.25 && v[1] == 1e-3);
     brdffit_grid_destroy(g);
+    /* radians printed with four decimals: 1.5708 is pi/2, not 1.57 degrees */
+    g = load_ok("VARS theta_i,phi_i,theta_s,phi_s,R\n0.5236,0,1.5708,3.1416,0.1\n");
+    assert_int_equal(brdffit_grid_sample_angles(g, 0, &a[0], &a[1], &a[2], &a[3]), BRDFFIT_OK);
+    assert_close(a[0], 0.5236, 1e-12);
+    assert_close(a[2], PI / 2, 1e-12);
+    brdffit_grid_destroy(g);
+    /* beyond pi/2 + 1e-4 the file is degrees */
+    g = load_ok("VARS theta_i,phi_i,theta_s,phi_s,R\n0.5,0,1.5710,0,0.1\n");
+    assert_int_equal(brdffit_grid_sample_angles(g, 0, &a[0], &a[1], &a[2], &a[3]), BRDFFIT_OK);
+    assert_close(a[2], DEG(1.5710), 1e-12);
+    brdffit_grid_destroy(g);
 }
 
 static void test_data_as_measured(void **state)

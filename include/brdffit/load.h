@@ -178,8 +178,10 @@ BRDFFIT_API brdffit_status brdffit_load_merl_buffer(brdffit_grid **out, const vo
  *   angle is within pi/2 and every azimuth within 2 pi in magnitude is read
  *   as radians (the convention of some public files and readers; no real
  *   measurement in degrees stays within 1.6 degrees). |theta| <= 90
- *   degrees; a negative polar angle is the direction on the other side of
- *   the normal, (|theta|, phi + 180 degrees); |phi| <= 360 degrees.
+ *   degrees and |phi| <= 360 degrees, each with 1e-4 radians allowed for
+ *   rounding (1.5708 for pi/2; theta is then clamped to pi/2); a negative
+ *   polar angle is the direction on the other side of the normal,
+ *   (|theta|, phi + 180 degrees).
  * Messages name the line and, for a field, the column with its VARS name,
  * for example "line 14, column 5 (R): malformed number '0.1x'".
  *

@@ -15,6 +15,10 @@
 #include "core/core.h"
 #include "load/astm_internal.h"
 
+/* Rounding allowed beyond the polar and azimuth limits, radians (files
+ * print angles with a few decimals: 1.5708 for pi/2). */
+#define ANGLE_SLACK 1e-4
+
 typedef struct astm_data {
     size_t n_rows;
     double *angles;         /* [k * n_rows + r], file units; k in theta_i, phi_i, theta_s, phi_s */
@@ -151,7 +155,7 @@ static int in_radians(const astm_data *d)
     size_t k, n = d->n_rows;
     for (k = 0; k < 4 * n; k++) {
         double limit = (k / n) % 2 == 0 ? BF_HALF_PI : 2.0 * BF_PI;
-        if (fabs(d->angles[k]) > limit + 1e-6) return 0;
+        if (fabs(d->angles[k]) > limit + ANGLE_SLACK) return 0;
     }
     return 1;
 }
@@ -164,10 +168,11 @@ static brdffit_status convert_row(const astm_layout *lay, astm_data *d, size_t r
     for (k = 0; k < 4; k += 2) {
         double *t = &d->angles[k * n + r], *p = &d->angles[(k + 1) * n + r];
         double th = *t * unit, ph = *p * unit;
-        if (fabs(th) > BF_HALF_PI + 1e-9 || fabs(ph) > 2.0 * BF_PI + 1e-9) {
-            size_t col = lay->col[fabs(th) > BF_HALF_PI + 1e-9 ? k : k + 1];
+        if (fabs(th) > BF_HALF_PI + ANGLE_SLACK || fabs(ph) > 2.0 * BF_PI + ANGLE_SLACK) {
+            int polar = fabs(th) > BF_HALF_PI + ANGLE_SLACK;
+            size_t col = lay->col[polar ? k : k + 1];
             char what[64];
-            bf_format(what, sizeof what, "angle outside [%s] %s", fabs(th) > BF_HALF_PI + 1e-9
+            bf_format(what, sizeof what, "angle outside [%s] %s", polar
                       ? (unit == 1.0 ? "-pi/2, pi/2" : "-90, 90") : (unit == 1.0 ? "-2 pi, 2 pi"
                       : "-360, 360"), unit == 1.0 ? "radians" : "degrees");
             return bf_fail(err, BRDFFIT_E_RANGE, "line %zu, column %zu: %s", d->lines[r],
