@@ -306,6 +306,12 @@ static void test_reduced_anisotropic(void **state)
     brdffit_grid_destroy(g);
     expect_error(file, size, brdffit_axes_default(), BRDFFIT_E_UNSUPPORTED, "1/4");
     free(file);
+    /* light azimuths 1e-40 apart (float32 denormals): the reduction factor
+     * 2 pi / span overflows an int; it is capped, not converted blindly */
+    sp.phi_i[1] = 1e-40, sp.phi_i[2] = 2e-40;
+    file = fx_rgl_file(&sp, &size);
+    expect_error(file, size, brdffit_axes_default(), BRDFFIT_E_UNSUPPORTED, "1/1000000");
+    free(file);
 }
 
 static void test_file_and_arguments(void **state)

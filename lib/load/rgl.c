@@ -92,7 +92,8 @@ static brdffit_status read_light(rgl_file *f, brdffit_error *err)
     f->reduction = 1;
     if (!f->isotropic) {
         double span = bf_tensor_f32(f->phi_i, f->n_phi - 1) - bf_tensor_f32(f->phi_i, 0);
-        f->reduction = (int)floor(2.0 * BF_PI / span + 0.5);
+        double r = floor(2.0 * BF_PI / span + 0.5); /* span > 0: the axis increases */
+        f->reduction = r > 1e6 ? 1000000 : (int)r;
     }
     return BRDFFIT_OK;
 }
