@@ -17,6 +17,7 @@
 #include "fit_fixtures.h"
 #include "grid_fixtures.h"
 #include "optim_problems.h"
+#include "rgl_writer.h"
 #include "test_support.h"
 
 /* ---- the sweep ------------------------------------------------------------------------------ */
@@ -138,7 +139,7 @@ static void assert_grids_equal(const brdffit_grid *a, const brdffit_grid *b)
 #define N_SCATTERED 40
 typedef struct inputs {
     fx_tempdir dir;
-    char csv_path[512], merl_path[512];
+    char csv_path[512], merl_path[512], astm_path[512], rgl_path[512];
     fx_axes axes;        /* 6 x 8 x 7, for the fits too */
     fx_axes merl_axes;   /* resampling axes of the MERL loads */
     double *values;      /* 3 channels over axes */
@@ -146,6 +147,9 @@ typedef struct inputs {
     char *csv;           /* the grid with its missing values as CSV text */
     char *csv_scattered; /* a scattered CSV text */
     unsigned char *merl; /* a complete MERL file image, mostly unmeasured */
+    char *astm;          /* an ASTM E1392 text */
+    unsigned char *rgl;  /* a small RGL .bsdf file */
+    size_t rgl_size;
     double ti[N_SCATTERED], pi[N_SCATTERED], to[N_SCATTERED], po[N_SCATTERED];
     double sc_values[2 * N_SCATTERED], sc_weights[N_SCATTERED];
     brdffit_grid *regular;   /* from values, no mask */
@@ -154,7 +158,27 @@ typedef struct inputs {
     brdffit_model *model;    /* ashikhmin-shirley */
 } inputs;
 
-static const char *const file_names[] = {"grid.csv", "merl.binary"};
+static const char *const file_names[] = {"grid.csv", "merl.binary", "scan.astm", "m.bsdf"};
+
+static const char astm_text[] = "SOURCE \"sweep\"\nNUM_POINTS 4\n"
+                                "VARS theta_i,phi_i,theta_s,phi_s,R,G\n"
+                                "10,0,20,180,0.5,-0.01\n30,0,40,90,0.125,nan\n"
+                                "0,0,0,0,1,2\n60,0,-10,45,0.75,0.5\n";
+
+static double rgl_material(const double wi[3], const double wo[3], size_t c)
+{
+    (void)wi;
+    return 0.1 + 0.05 * (double)c + 0.2 * wo[2];
+}
+
+static unsigned char *make_rgl(size_t *size)
+{
+    fx_rgl_spec sp;
+    memset(&sp, 0, sizeof sp);
+    sp.n_theta = 2, sp.n_phi = 1, sp.theta_i[1] = 0.5;
+    sp.nx = 4, sp.ny = 3, sp.nc = 3, sp.rgb = 1, sp.jacobian = 1, sp.brdf = rgl_material;
+    return fx_rgl_file(&sp, size);
+}
 
 /* Measured only in a band of cells, so the scattered grid stays small. */
 static double merl_sparse(double theta_h, double theta_d, double phi_d, int channel)
@@ -219,6 +243,15 @@ static int group_setup(void **state)
     fx_tempdir_path(&in->dir, file_names[1], in->merl_path, sizeof in->merl_path);
     assert_true(fx_write_file(in->csv_path, in->csv, strlen(in->csv)));
     assert_true(fx_write_file(in->merl_path, in->merl, FX_MERL_SIZE));
+    in->astm = malloc(sizeof astm_text);
+    in->rgl = make_rgl(&in->rgl_size);
+    assert_non_null(in->astm);
+    assert_non_null(in->rgl);
+    memcpy(in->astm, astm_text, sizeof astm_text);
+    fx_tempdir_path(&in->dir, file_names[2], in->astm_path, sizeof in->astm_path);
+    fx_tempdir_path(&in->dir, file_names[3], in->rgl_path, sizeof in->rgl_path);
+    assert_true(fx_write_file(in->astm_path, in->astm, strlen(in->astm)));
+    assert_true(fx_write_file(in->rgl_path, in->rgl, in->rgl_size));
     make_scattered_arrays(in);
     assert_int_equal(
         brdffit_grid_create_regular(&in->regular, &in->axes.axes, 3, in->values, NULL, NULL, NULL),
@@ -238,7 +271,7 @@ static int group_teardown(void **state)
 {
     inputs *in = *state;
     size_t k;
-    fx_tempdir_remove(&in->dir, file_names, 2);
+    fx_tempdir_remove(&in->dir, file_names, 4);
     brdffit_grid_destroy(in->regular);
     brdffit_grid_destroy(in->scattered);
     brdffit_grid_destroy(in->fit_grid);
@@ -248,6 +281,8 @@ static int group_teardown(void **state)
     free(in->csv);
     free(in->csv_scattered);
     free(in->merl);
+    free(in->astm);
+    free(in->rgl);
     free(in);
     printf("allocation-failure points per function:\n");
     for (k = 0; k < n_records; k++) printf("  %-52s %4zu\n", records[k].name, records[k].points);
@@ -303,7 +338,16 @@ static void run_make(const char *name, make_fn make, const void *spec)
 
 /* ---- loaders -------------------------------------------------------------------------------- */
 
-typedef enum load_kind { LOAD_CSV, LOAD_CSV_BUFFER, LOAD_MERL, LOAD_MERL_BUFFER } load_kind;
+typedef enum load_kind {
+    LOAD_CSV,
+    LOAD_CSV_BUFFER,
+    LOAD_MERL,
+    LOAD_MERL_BUFFER,
+    LOAD_ASTM,
+    LOAD_ASTM_BUFFER,
+    LOAD_RGL,
+    LOAD_RGL_BUFFER
+} load_kind;
 
 typedef struct load_spec {
     load_kind kind;
@@ -322,6 +366,10 @@ static brdffit_status load_with(const void *spec, brdffit_grid **out, const brdf
     case LOAD_CSV_BUFFER: return brdffit_load_csv_buffer(out, k->data, k->size, a, err);
     case LOAD_MERL: return brdffit_load_merl(out, k->path, k->axes, a, err);
     case LOAD_MERL_BUFFER: return brdffit_load_merl_buffer(out, k->data, k->size, k->axes, a, err);
+    case LOAD_ASTM: return brdffit_load_astm(out, k->path, a, err);
+    case LOAD_ASTM_BUFFER: return brdffit_load_astm_buffer(out, k->data, k->size, a, err);
+    case LOAD_RGL: return brdffit_load_rgl(out, k->path, k->axes, a, err);
+    case LOAD_RGL_BUFFER: return brdffit_load_rgl_buffer(out, k->data, k->size, k->axes, a, err);
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }
@@ -343,6 +391,16 @@ static void test_loaders(void **state)
     run_make("brdffit_load_merl_buffer (scattered)", load_with, &k);
     k.axes = &in->merl_axes.axes;
     run_make("brdffit_load_merl_buffer (resampled)", load_with, &k);
+    k.kind = LOAD_ASTM, k.path = in->astm_path, k.axes = NULL;
+    run_make("brdffit_load_astm", load_with, &k);
+    k.kind = LOAD_ASTM_BUFFER, k.data = in->astm, k.size = strlen(in->astm);
+    run_make("brdffit_load_astm_buffer", load_with, &k);
+    k.kind = LOAD_RGL, k.path = in->rgl_path;
+    run_make("brdffit_load_rgl (as measured)", load_with, &k);
+    k.kind = LOAD_RGL_BUFFER, k.data = in->rgl, k.size = in->rgl_size;
+    run_make("brdffit_load_rgl_buffer (as measured)", load_with, &k);
+    k.axes = &in->merl_axes.axes;
+    run_make("brdffit_load_rgl_buffer (resampled)", load_with, &k);
 }
 
 /* ---- grid creation and derived grids -------------------------------------------------------- */

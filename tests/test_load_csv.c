@@ -316,7 +316,6 @@ static void test_row_errors(void **state)
     expect_error(HDR "0,0,0,1..2\n", BRDFFIT_E_PARSE, "line 2, column 4 (r)", "'1..2'");
     expect_error(HDR "0,0,0,0x1p3\n", BRDFFIT_E_PARSE, "column 4", NULL);
     expect_error(HDR "0,0,0,1\xff\xfe\n", BRDFFIT_E_PARSE, "line 2, column 4", "'1?\?'");
-    expect_error(HDR "0,0,0,-0.5\n", BRDFFIT_E_RANGE, "line 2, column 4 (r)", "negative value");
     expect_error(HDR "0,0,0,inf\n", BRDFFIT_E_RANGE, "line 2, column 4 (r)", "infinite value");
     expect_error(HDR "0,0,0,1e999\n", BRDFFIT_E_RANGE, "column 4", "infinite");
     expect_error(HDR "0,-Infinity,0,1\n", BRDFFIT_E_RANGE, "line 2, column 2 (theta_o)",
@@ -334,10 +333,25 @@ static void test_row_errors(void **state)
                  "column 4 (phi_o)", NULL);
     expect_error("theta_i,phi_i,theta_o,phi_o,r\n91,0,0,0,1\n", BRDFFIT_E_RANGE,
                  "column 1 (theta_i)", NULL);
-    expect_error("theta_i,phi_i,theta_o,phi_o,r\n0,0,0,0,-1e-300\n", BRDFFIT_E_RANGE,
-                 "column 5 (r)", "negative");
     /* a lone carriage return inside a line is not a line end */
     expect_error(HDR "0,0,0,1\r2\n", BRDFFIT_E_PARSE, "line 2, column 4", NULL);
+}
+
+/* Slightly negative values (background subtraction noise) are data: kept
+ * exactly as written, in both forms. */
+static void test_negative_values_are_data(void **state)
+{
+    const double *v;
+    brdffit_grid *g;
+    (void)state;
+    g = load_ok(HDR "0,0,0,-0.5\n0,0,10,1e-3\n");
+    assert_int_equal(brdffit_grid_values(g, 0, &v), BRDFFIT_OK);
+    assert_true(v[0] == -0.5 && v[1] == 1e-3);
+    brdffit_grid_destroy(g);
+    g = load_ok("theta_i,phi_i,theta_o,phi_o,r\n0,0,0,0,-1e-300\n");
+    assert_int_equal(brdffit_grid_values(g, 0, &v), BRDFFIT_OK);
+    assert_true(v[0] == -1e-300);
+    brdffit_grid_destroy(g);
 }
 
 /* ---- grid coverage -------------------------------------------------------------------------- */
@@ -531,6 +545,7 @@ int main(void)
         cmocka_unit_test(test_header_forms),
         cmocka_unit_test(test_empty_inputs),
         cmocka_unit_test(test_row_errors),
+        cmocka_unit_test(test_negative_values_are_data),
         cmocka_unit_test(test_incomplete_and_duplicate),
         cmocka_unit_test(test_axis_values_compare_exactly),
         cmocka_unit_test(test_too_large),

@@ -252,13 +252,14 @@ static void test_grid_create_misuse(void **state)
     a = *ax;
     EXPECT_ERR(BRDFFIT_E_TOO_LARGE,
                brdffit_grid_create_regular(&g, &a, SIZE_MAX / 8, v, NULL, NULL, &err));
-    /* values: NaN, Inf, negative; the message names the sample and channel */
+    /* values: NaN, Inf (negative values are data); the message names the
+     * sample and channel */
     v[5] = NAN;
     EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_regular(&g, ax, 2, v, NULL, NULL, &err));
     assert_non_null(strstr(err.message, "sample 2, channel 1"));
     v[5] = HUGE_VAL;
     EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_regular(&g, ax, 2, v, NULL, NULL, &err));
-    v[5] = -1e-300;
+    v[5] = -HUGE_VAL;
     EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_regular(&g, ax, 2, v, NULL, NULL, &err));
     assert_null(g);
 

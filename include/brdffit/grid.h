@@ -21,7 +21,9 @@
  *   ascending and stable, so that every angle cap selects a prefix; sample
  *   indices of a scattered grid refer to that stored order, and
  *   brdffit_grid_sample_angles() gives each sample's directions back.
- * - Values are BRDF values in 1/sr, n_channels per sample. Input arrays are
+ * - Values are BRDF values in 1/sr, n_channels per sample. A value may be
+ *   slightly negative (background subtraction noise of a measurement): it
+ *   is data, kept and fitted as given. Input arrays are
  *   interleaved: value (s, c) at [s * n_channels + c]. The grid stores them
  *   per channel (brdffit_grid_values()).
  * - A value may be marked missing. Missing values are kept out of fits and
@@ -110,7 +112,8 @@ BRDFFIT_API const brdffit_axes *brdffit_axes_default(void);
  * @param n_channels      Channels per sample, 1 or more.
  * @param values          n_samples * n_channels values, interleaved, sample
  *                        order as in the file comment (copied). Each must be
- *                        finite and >= 0 unless marked missing.
+ *                        finite unless marked missing; negative values
+ *                        (measurement noise) are kept as data.
  * @param missing         NULL, or one byte per value (same layout as
  *                        @p values); non-zero marks the value missing
  *                        (copied).
@@ -119,7 +122,7 @@ BRDFFIT_API const brdffit_axes *brdffit_axes_default(void);
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for NULL pointers, zero
  *         sizes, an allocator lacking a function, or axes that are not
  *         strictly increasing; ::BRDFFIT_E_RANGE for angles out of range
- *         or (non-missing) values that are negative or not finite; the
+ *         or (non-missing) values that are not finite; the
  *         message names the axis index or the sample and channel;
  *         ::BRDFFIT_E_TOO_LARGE when the sizes overflow (checked before any
  *         array is read); ::BRDFFIT_E_OUT_OF_MEMORY.

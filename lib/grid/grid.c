@@ -124,7 +124,8 @@ static int check_alloc(const brdffit_allocator *alloc)
     return bf_alloc_init(&a, alloc);
 }
 
-/* Count the missing values and check every present one: finite, >= 0. */
+/* Count the missing values and check every present one: finite (negative
+ * values are measurement noise, kept as data). */
 static brdffit_status check_values(const double *values, const unsigned char *missing,
                                    size_t n_samples, size_t n_channels, size_t *n_missing,
                                    brdffit_error *err)
@@ -138,10 +139,6 @@ static brdffit_status check_values(const double *values, const unsigned char *mi
         if (!isfinite(values[v]))
             return bf_fail(err, BRDFFIT_E_RANGE, "value of sample %zu, channel %zu is not finite",
                            v / n_channels, v % n_channels);
-        if (values[v] < 0.0)
-            return bf_fail(err, BRDFFIT_E_RANGE,
-                           "value of sample %zu, channel %zu is negative (%g)", v / n_channels,
-                           v % n_channels, values[v]);
     }
     *n_missing = count;
     return BRDFFIT_OK;

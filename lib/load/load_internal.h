@@ -7,10 +7,20 @@
 #include <stdio.h>
 
 #include "brdffit/alloc.h"
+#include "brdffit/grid.h"
 #include "brdffit/status.h"
 
 /* Largest number of values a loader accepts (2^31). */
 #define BF_LOAD_MAX_VALUES ((size_t)1 << 31)
+
+/* The checks every loader makes first: out not NULL (and set to NULL),
+ * in not NULL, a complete allocator (copied into *a), and axes (when not
+ * NULL) not empty and of at most 2^31 combinations. */
+brdffit_status bf_load_begin(brdffit_grid **out, const void *in, const brdffit_axes *axes,
+                             const brdffit_allocator *alloc, brdffit_allocator *a,
+                             brdffit_error *err);
+/* Number of combinations of the axes, checked as bf_load_begin() does. */
+brdffit_status bf_load_axes_count(const brdffit_axes *axes, size_t *n_samples, brdffit_error *err);
 
 /* An open file whose size is known. */
 typedef struct bf_file {
@@ -30,6 +40,33 @@ void bf_file_close(bf_file *f);
  * before anything is allocated. */
 brdffit_status bf_file_read_all(const char *path, size_t max_size, const brdffit_allocator *alloc,
                                 char **data, size_t *size, brdffit_error *err);
+
+/* ---- text: lines (ending in '\n' or "\r\n") and fields ---- */
+
+typedef struct bf_line {
+    const char *p;
+    size_t len;    /* without the line end */
+    size_t number; /* 1-based */
+} bf_line;
+
+typedef struct bf_text {
+    const char *data;
+    size_t size, pos, line;
+} bf_text;
+
+/* Start reading data[0..size), skipping a UTF-8 byte order mark. */
+void bf_text_init(bf_text *r, const char *data, size_t size);
+/* The next line; 0 at the end of the text. */
+int bf_text_next_line(bf_text *r, bf_line *out);
+/* The next line that is not blank (spaces and tabs only) and does not
+ * start (after blanks) with `comment` ('\0': no comments). */
+int bf_text_next_data_line(bf_text *r, bf_line *out, char comment);
+int bf_line_blank(const bf_line *l, char comment);
+int bf_is_blank(char c);
+/* Trim spaces and tabs from both ends. */
+void bf_trim(const char **p, size_t *len);
+/* A printable excerpt of p[0..len) for messages, cut with "...". */
+void bf_excerpt(char *buf, size_t size, const char *p, size_t len);
 
 /* Outcome of parsing one decimal number. */
 typedef enum bf_number_kind {

@@ -217,7 +217,7 @@ class GridFromCsv(unittest.TestCase):
 
     def test_errors_name_the_place(self):
         cases = [
-            ("theta_i,theta_o,phi_o,r\n0,0,0,-1\n", Status.E_RANGE, "line 2, column 4"),
+            ("theta_i,theta_o,phi_o,r\n0,0,0,-inf\n", Status.E_RANGE, "line 2, column 4"),
             ("theta_i,theta_o,phi_o,r\n0,95,0,1\n", Status.E_RANGE, "line 2, column 2"),
             ("theta_i,theta_o,phi_o,r\n0,0,0\n", Status.E_PARSE, "line 2"),
             ("theta_i,theta_o,phi_o,r\n0,0,0,1\n0,0,90,1\n10,0,0,1\n",
@@ -246,6 +246,49 @@ def merl_bytes(fill):
     """A complete MERL file with every cell set to ``fill`` (three channels)."""
     header = struct.pack("<3i", 90, 90, 180)
     return header + np.full(3 * 90 * 90 * 180, fill, dtype="<f8").tobytes()
+
+
+def tensor_file(fields):
+    """A tensor file of (name, numpy array) fields (float32 or uint8)."""
+    header = b"tensor_file\0" + bytes([1, 0]) + struct.pack("<I", len(fields))
+    size = len(header) + sum(2 + len(n) + 2 + 1 + 8 + 8 * a.ndim for n, a in fields)
+    heads, blobs = b"", b""
+    for name, a in fields:
+        code = 1 if a.dtype == np.uint8 else 10
+        heads += struct.pack("<H", len(name)) + name.encode() + struct.pack("<HBQ", a.ndim, code,
+                                                                            size + len(blobs))
+        heads += b"".join(struct.pack("<Q", n) for n in a.shape)
+        blobs += a.astype("<f4" if code == 10 else "u1").tobytes()
+    return header + heads + blobs
+
+
+class GridFromAstmAndRgl(unittest.TestCase):
+    def test_astm(self):
+        g = Grid.load_astm_bytes("SOURCE x\nVARS theta_i,phi_i,theta_s,phi_s,R,G,B\n"
+                                 "10,0,20,180,0.5,-0.01,0.2\n")
+        self.assertEqual(g.kind, "scattered")
+        np.testing.assert_array_equal(g.values, [[0.5, -0.01, 0.2]])
+
+    def test_rgl_uniform_warp(self):
+        # a constant VNDF warps the unit square onto itself; no jacobian
+        # flag: f_r = stored value / cos theta_o
+        n = 5
+        f32 = np.float32
+        fields = [("theta_i", np.array([0.0, 0.5], f32)), ("phi_i", np.array([0.0], f32)),
+                  ("ndf", np.ones((2, 2), f32)), ("sigma", np.ones((2, 2), f32)),
+                  ("vndf", np.ones((1, 2, 3, 3), f32)),
+                  ("rgb", np.full((1, 2, 3, n, n), 0.25, f32)),
+                  ("jacobian", np.array([0], np.uint8))]
+        g = Grid.load_rgl_bytes(tensor_file(fields))
+        self.assertEqual(g.kind, "scattered")
+        self.assertEqual(g.channel_count, 3)
+        to = g.sample_angles()[2]
+        self.assertGreater(g.sample_count, 20)
+        want = np.repeat((0.25 / np.cos(to))[:, None], 3, axis=1)
+        np.testing.assert_allclose(g.values, want, rtol=1e-6)
+        small = Grid.load_rgl_bytes(tensor_file(fields),
+                                    axes=(radians([0, 30]), radians([0, 45]), radians([0, 180])))
+        self.assertEqual(small.shape, (2, 2, 2, 3))
 
 
 class GridFromMerl(unittest.TestCase):
@@ -294,10 +337,16 @@ class GridBadInput(unittest.TestCase):
         return cm.exception
 
     def test_values_rejected_by_the_library(self):
-        for bad in (np.nan, -1.0, np.inf):
+        for bad in (np.nan, -np.inf, np.inf):
             v = self.values.copy()
             v[10, 0] = bad
             self.expect(Status.E_RANGE, Grid.from_regular, *self.axes, v)
+
+    def test_negative_values_are_data(self):
+        v = self.values.copy()
+        v[10, 0] = -1e-3
+        g = Grid.from_regular(*self.axes, v)
+        self.assertEqual(g.values[10, 0], -1e-3)
 
     def test_axes_rejected_by_the_library(self):
         ti, to, po = self.axes

@@ -110,10 +110,11 @@ void cli_buf_csv_field(cli_buf *b, const char *s);
 
 /* --- load.c -------------------------------------------------------------- */
 
-/* Load a measurement: MERL binary (by extension .binary or by its header)
- * resampled onto the default axes, else CSV. `what` receives a short
- * description of the source ("CSV" or "MERL binary, resampled onto the
- * default axes"). On failure msg holds the library's message. */
+/* Load a measurement, reading the file once and telling its format from
+ * its content: MERL binary (resampled onto the default axes), RGL .bsdf
+ * (the samples as measured), ASTM E1392, else CSV. `what` receives a
+ * short description of the source. On failure msg holds the library's
+ * message (or why the file cannot be read). */
 brdffit_status cli_load(const char *path, brdffit_grid **grid, const char **what, char *msg,
                         size_t msg_size);
 

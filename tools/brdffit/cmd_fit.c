@@ -269,6 +269,12 @@ static int output(const fit_run *run, fit_result *r, int show_progress)
     if (show_progress) progress(run, 0, 1);
     if (r->error[0] != '\0') cli_error(r->path, "%s", r->error);
     fit_warnings_report(r);
+    if (r->n_samples > 0 && (r->n_samples - r->n_active) * 4 > r->n_samples)
+        cli_error(r->path,
+                  "warning: the %g deg angle cap leaves out %zu of the %zu samples (%.0f %%); "
+                  "--cap 90 fits them all",
+                  run->opts->cap * 180.0 / PI, r->n_samples - r->n_active, r->n_samples,
+                  100.0 * (double)(r->n_samples - r->n_active) / (double)r->n_samples);
     if (run->opts->json)
         fit_json(&b, r);
     else if (r->fitted)

@@ -10,9 +10,11 @@
 static const char info_help[] =
     "usage: brdffit info FILE\n"
     "\n"
-    "Summarise a measurement (CSV, or MERL .binary resampled onto the default\n"
-    "axes): its form (regular or scattered), the axes in degrees, channels,\n"
-    "samples, missing values, the value range, and the samples inside the\n"
+    "Summarise a measurement (CSV, MERL binary resampled onto the default axes,\n"
+    "ASTM E1392, or RGL .bsdf as measured; the format is told from the content):\n"
+    "its form (regular or scattered), the axes of a regular grid, the range of\n"
+    "every angle in degrees, channels, samples, missing values, the value range\n"
+    "and negative values of each channel, and the samples inside and outside the\n"
     "default 75 deg angle cap.\n";
 
 /* An axis: count, range, and the step when evenly spaced (else the list). */
@@ -48,17 +50,40 @@ static void print_axes(const brdffit_grid *g)
     }
 }
 
-/* Smallest and largest present value of one channel. */
-static int channel_range(const brdffit_grid *g, size_t c, double *lo, double *hi)
+/* The range of each of the four angles over every sample, in degrees. */
+static void print_angles(const brdffit_grid *g)
+{
+    static const char *const names[4] = {"theta_i", "phi_i", "theta_o", "phi_o"};
+    double lo[4] = {0}, hi[4] = {0}, a[4];
+    size_t s, k, n = brdffit_grid_sample_count(g);
+    for (s = 0; s < n; s++) {
+        if (brdffit_grid_sample_angles(g, s, &a[0], &a[1], &a[2], &a[3]) != BRDFFIT_OK) return;
+        for (k = 0; k < 4; k++) {
+            if (s == 0 || a[k] < lo[k]) lo[k] = a[k];
+            if (s == 0 || a[k] > hi[k]) hi[k] = a[k];
+        }
+    }
+    printf("%-10s", "angles");
+    for (k = 0; k < 4; k++)
+        printf("%s %s %g .. %g", k == 0 ? "" : ",", names[k], lo[k] * RAD2DEG, hi[k] * RAD2DEG);
+    printf(" deg\n");
+}
+
+/* Smallest and largest present value of one channel, and how many of them
+ * are negative. */
+static int channel_range(const brdffit_grid *g, size_t c, double *lo, double *hi,
+                         size_t *negative)
 {
     const double *v;
     size_t s, n = brdffit_grid_sample_count(g);
     int any = 0;
+    *negative = 0;
     if (brdffit_grid_values(g, c, &v) != BRDFFIT_OK) return 0;
     for (s = 0; s < n; s++) {
         if (brdffit_grid_is_missing(g, s, c)) continue;
         if (!any || v[s] < *lo) *lo = v[s];
         if (!any || v[s] > *hi) *hi = v[s];
+        *negative += v[s] < 0.0;
         any = 1;
     }
     return any;
@@ -69,13 +94,32 @@ static void print_values(const brdffit_grid *g)
     size_t c, nc = brdffit_grid_channel_count(g);
     for (c = 0; c < nc; c++) {
         double lo = 0.0, hi = 0.0;
+        size_t neg = 0;
         char label[32];
         cli_format(label, sizeof label, "channel %zu", c);
-        if (channel_range(g, c, &lo, &hi))
-            printf("%-10s %g .. %g (1/sr)\n", label, lo, hi);
+        if (channel_range(g, c, &lo, &hi, &neg))
+            printf("%-10s %g .. %g (1/sr), %zu negative\n", label, lo, hi, neg);
         else
             printf("%-10s all missing\n", label);
     }
+}
+
+static void print_summary(const brdffit_grid *g, const char *path, const char *what)
+{
+    size_t n = brdffit_grid_sample_count(g), nc = brdffit_grid_channel_count(g);
+    size_t in_cap = brdffit_grid_active_count(g, BRDFFIT_DEFAULT_CAP);
+    printf("%-10s %s\n", "file", path);
+    printf("%-10s %s\n", "format", what);
+    printf("%-10s %s\n", "form",
+           brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR ? "regular" : "scattered");
+    if (brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR) print_axes(g);
+    print_angles(g);
+    printf("%-10s %zu\n", "channels", nc);
+    printf("%-10s %zu (%zu values)\n", "samples", n, n * nc);
+    printf("%-10s %zu values\n", "missing", brdffit_grid_missing_count(g));
+    print_values(g);
+    printf("%-10s %zu samples with theta_i, theta_o <= 75 deg; %zu outside (%.1f %%)\n",
+           "in cap", in_cap, n - in_cap, 100.0 * (double)(n - in_cap) / (double)n);
 }
 
 int cli_cmd_info(int argc, char **argv)
@@ -86,7 +130,6 @@ int cli_cmd_info(int argc, char **argv)
     brdffit_grid *g = NULL;
     char msg[CLI_MSG_SIZE];
     int r;
-    size_t n, nc;
     cli_args_init(&a, argc, argv, options);
     while ((r = cli_next(&a, &name, &value)) > 0) {
         if (name != NULL) {
@@ -102,19 +145,7 @@ int cli_cmd_info(int argc, char **argv)
         cli_error(path, "%s", msg);
         return CLI_FAILED;
     }
-    n = brdffit_grid_sample_count(g);
-    nc = brdffit_grid_channel_count(g);
-    printf("%-10s %s\n", "file", path);
-    printf("%-10s %s\n", "format", what);
-    printf("%-10s %s\n", "form",
-           brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR ? "regular" : "scattered");
-    if (brdffit_grid_get_kind(g) == BRDFFIT_GRID_REGULAR) print_axes(g);
-    printf("%-10s %zu\n", "channels", nc);
-    printf("%-10s %zu (%zu values)\n", "samples", n, n * nc);
-    printf("%-10s %zu values\n", "missing", brdffit_grid_missing_count(g));
-    print_values(g);
-    printf("%-10s %zu samples with theta_i, theta_o <= 75 deg\n", "in cap",
-           brdffit_grid_active_count(g, BRDFFIT_DEFAULT_CAP));
+    print_summary(g, path, what);
     brdffit_grid_destroy(g);
     return CLI_OK;
 }

@@ -126,6 +126,11 @@ _PROTOTYPES = {
     "brdffit_load_merl": (c_int, [_PP, c_char_p, POINTER(Axes), _ALLOC, _E]),
     "brdffit_load_merl_buffer": (c_int, [_PP, c_void_p, c_size_t, POINTER(Axes), _ALLOC,
                                          _E]),
+    "brdffit_load_astm": (c_int, [_PP, c_char_p, _ALLOC, _E]),
+    "brdffit_load_astm_buffer": (c_int, [_PP, c_char_p, c_size_t, _ALLOC, _E]),
+    "brdffit_load_rgl": (c_int, [_PP, c_char_p, POINTER(Axes), _ALLOC, _E]),
+    "brdffit_load_rgl_buffer": (c_int, [_PP, c_void_p, c_size_t, POINTER(Axes), _ALLOC,
+                                        _E]),
     # model.h
     "brdffit_model_def_init": (None, [POINTER(ModelDef)]),
     "brdffit_model_builtin_count": (c_size_t, []),

@@ -95,8 +95,9 @@ class Grid(Handle):
     """An immutable measurement grid (``brdffit_grid``).
 
     Create one with :meth:`from_regular`, :meth:`from_scattered`,
-    :meth:`load_csv`, :meth:`load_csv_bytes`, :meth:`load_merl` or
-    :meth:`load_merl_bytes`. Angles are radians everywhere (the CSV and MERL
+    :meth:`load_csv`, :meth:`load_csv_bytes`, :meth:`load_merl`,
+    :meth:`load_merl_bytes`, :meth:`load_astm`, :meth:`load_astm_bytes`,
+    :meth:`load_rgl` or :meth:`load_rgl_bytes`. Angles are radians everywhere (the CSV and MERL
     files use degrees and half/difference angles; the loaders convert).
     Values are BRDF values in 1/sr, ``n_channels`` per sample.
 
@@ -138,7 +139,7 @@ class Grid(Handle):
         Raises:
             ValueError: for arrays of the wrong shape.
             BrdffitError: what the library rejects, e.g. ``E_RANGE`` for a
-                negative or non-finite value, ``E_INVALID_ARGUMENT`` for
+                non-finite value (negative values are data), ``E_INVALID_ARGUMENT`` for
                 unsorted axes.
         """
         axes, arrays = _axes_struct(theta_i, theta_o, phi_o)
@@ -231,6 +232,51 @@ class Grid(Handle):
         data = bytes(data)
         ax, keep = cls._merl_axes(axes, regular)
         grid = cls._create(lib.brdffit_load_merl_buffer, data, len(data), ax)
+        del keep
+        return grid
+
+    @classmethod
+    def load_astm(cls, path):
+        """Load an ASTM E1392 file (e.g. the Cornell measurements) as a
+        scattered grid; see docs/formats.md.
+
+        Raises:
+            BrdffitError: ``E_IO``, ``E_PARSE`` / ``E_RANGE`` with the line
+                and column in the message.
+        """
+        return cls._create(lib.brdffit_load_astm, _path(path))
+
+    @classmethod
+    def load_astm_bytes(cls, data):
+        """Load ASTM E1392 text from memory (``bytes`` or ``str``); as :meth:`load_astm`."""
+        if isinstance(data, str):
+            data = data.encode("utf-8")
+        data = bytes(data)
+        return cls._create(lib.brdffit_load_astm_buffer, data, len(data))
+
+    @classmethod
+    def load_rgl(cls, path, axes=None, regular=False):
+        """Load an RGL material database ``.bsdf`` file.
+
+        Args:
+            path: the file.
+            axes: None, or ``(theta_i, theta_o, phi_o)`` in radians to
+                resample onto a regular grid with these axes.
+            regular: with ``axes`` None, True resamples onto
+                :func:`default_axes`; False (default) gives the samples as
+                measured, each weighted by its solid angle.
+        """
+        ax, keep = cls._merl_axes(axes, regular)
+        grid = cls._create(lib.brdffit_load_rgl, _path(path), ax)
+        del keep
+        return grid
+
+    @classmethod
+    def load_rgl_bytes(cls, data, axes=None, regular=False):
+        """Load an RGL ``.bsdf`` file from memory; as :meth:`load_rgl`."""
+        data = bytes(data)
+        ax, keep = cls._merl_axes(axes, regular)
+        grid = cls._create(lib.brdffit_load_rgl_buffer, data, len(data), ax)
         del keep
         return grid
 
