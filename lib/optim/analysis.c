@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "optim/linalg.h"
+#include "core/linalg.h"
 #include "optim/optim_internal.h"
 
 void bf_optim_mark_analysed(brdffit_optimizer *opt)

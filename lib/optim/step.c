@@ -14,7 +14,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "optim/linalg.h"
+#include "core/linalg.h"
 #include "optim/optim_internal.h"
 
 int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x)
