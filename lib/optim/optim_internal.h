@@ -21,7 +21,7 @@
 typedef enum bf_form { BF_FORM_NONE = 0, BF_FORM_RESIDUALS = 1, BF_FORM_NORMAL = 2 } bf_form;
 
 typedef struct bf_optim_settings {
-    double gtol, xtol, ftol, diag_floor;
+    double gtol, xtol, ftol, diag_floor, step_bound, restart_bound;
     size_t max_iterations, max_evaluations;
     int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
 } bf_optim_settings;
@@ -53,6 +53,8 @@ typedef struct bf_optim_work {
     double *w;     /* eigenvalues */
     double *tmp;   /* scratch */
     double *lower, *upper;
+    double *xscale; /* largest |x_j| of the run so far (the start included) */
+    double *best;   /* the point a stalled attempt ended at */
     /* p x p values each */
     double *jtj;     /* J^T J at x */
     double *jtj_new; /* J^T J at an accepted trial point */
@@ -121,10 +123,20 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
  * w.trial (inside the box) and w.step = trial - x, and returns the
  * reduction of the cost the linear model predicts for that step. Sets
  * *fallback when the eigen-decomposition replaced Cholesky. */
-double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallback);
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                     int *fallback);
 
 /* step.c: whether parameter j sits on its lower or upper bound. */
 int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
+
+/* classify.c: the gradient test at the current point (see lm.c). */
+int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost);
+
+/* classify.c: the stop reason to report for a run that ended with stop at
+ * the current point: BRDFFIT_STOP_STALLED instead of a small step,
+ * reduction or gradient where a free parameter's Jacobian column vanished.
+ * Needs bf_optim_mark_analysed() first. */
+brdffit_stop_reason bf_optim_classify(const brdffit_optimizer *opt, brdffit_stop_reason stop);
 
 /* analysis.c: at the end of a run, mark the parameters the condition
  * number and the covariance are taken over. */

@@ -11,9 +11,10 @@
  * more in double precision. */
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
-enum { BF_WORK_VECTORS = 12, BF_WORK_MATRICES = 4 };
+enum { BF_WORK_VECTORS = 14, BF_WORK_MATRICES = 4 };
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 5000, 12000, 1};
+static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
+                                                   5000,  12000, 1};
 
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
 {
@@ -64,7 +65,7 @@ static int alloc_work(brdffit_optimizer *opt)
     bf_optim_work *w = &opt->w;
     double *d;
     double **vectors[BF_WORK_VECTORS] = {&w->x, &w->trial, &w->g, &w->g_new, &w->step,  &w->delta,
-                                         &w->d, &w->scale, &w->w, &w->tmp,   &w->lower, &w->upper};
+                                         &w->d, &w->scale, &w->w, &w->tmp,   &w->lower, &w->upper, &w->xscale, &w->best};
     double **matrices[BF_WORK_MATRICES] = {&w->jtj, &w->jtj_new, &w->m, &w->v};
     /* matrices first, then vectors, indices and flags; p <= 4096: no
      * overflow. The matrices are always written before they are read and
@@ -285,6 +286,9 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
             return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                                  "diagonal floor must be at most 1, got %g", value);
         return set_tolerance(opt, &s->diag_floor, value, d->diag_floor);
+    case BRDFFIT_OPT_STEP_BOUND: return set_tolerance(opt, &s->step_bound, value, d->step_bound);
+    case BRDFFIT_OPT_RESTART_BOUND:
+        return set_tolerance(opt, &s->restart_bound, value, d->restart_bound);
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }
@@ -304,6 +308,8 @@ brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim
     case BRDFFIT_OPT_MAX_EVALUATIONS: *value = (double)s->max_evaluations; return BRDFFIT_OK;
     case BRDFFIT_OPT_SCALING: *value = s->marquardt ? 1.0 : 0.0; return BRDFFIT_OK;
     case BRDFFIT_OPT_DIAG_FLOOR: *value = s->diag_floor; return BRDFFIT_OK;
+    case BRDFFIT_OPT_STEP_BOUND: *value = s->step_bound; return BRDFFIT_OK;
+    case BRDFFIT_OPT_RESTART_BOUND: *value = s->restart_bound; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }
@@ -396,6 +402,15 @@ brdffit_stop_reason brdffit_optimizer_stop_reason(const brdffit_optimizer *opt)
     return check_handle(opt) == BRDFFIT_OK ? opt->res.stop : BRDFFIT_STOP_NONE;
 }
 
+int brdffit_optimizer_converged(const brdffit_optimizer *opt)
+{
+    brdffit_stop_reason s;
+    if (check_handle(opt) != BRDFFIT_OK || !opt->res.valid) return 0;
+    s = opt->res.stop;
+    return s == BRDFFIT_STOP_GRADIENT || s == BRDFFIT_STOP_STEP || s == BRDFFIT_STOP_COST ||
+           s == BRDFFIT_STOP_ZERO_COST;
+}
+
 const char *brdffit_stop_reason_string(brdffit_stop_reason reason)
 {
     switch (reason) {
@@ -408,6 +423,7 @@ const char *brdffit_stop_reason_string(brdffit_stop_reason reason)
     case BRDFFIT_STOP_CANCELLED: return "cancelled";
     case BRDFFIT_STOP_CALLBACK: return "stopped by the iteration callback";
     case BRDFFIT_STOP_ZERO_COST: return "cost reached zero";
+    case BRDFFIT_STOP_STALLED: return "stalled where the data do not determine the parameters";
     }
     return "unknown stop reason";
 }

@@ -268,7 +268,7 @@ static void check_result(const brdffit_fit *fit, const brdffit_model *model, con
         }
     }
     fuzz_require(brdffit_fit_iterations(fit) <= fc->max_iter);
-    fuzz_require((unsigned)brdffit_fit_stop_reason(fit) <= BRDFFIT_STOP_ZERO_COST);
+    fuzz_require((unsigned)brdffit_fit_stop_reason(fit) <= BRDFFIT_STOP_STALLED);
     hist = brdffit_fit_history(fit, NULL, NULL);
     fuzz_require(hist == 0 || hist == brdffit_fit_iterations(fit) + 1);
     if (brdffit_fit_shader(fit, &rs, cd, cs) == BRDFFIT_OK) {
