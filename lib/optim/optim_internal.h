@@ -1,5 +1,7 @@
 /* The optimizer handle and the internal interface between its files:
- * optimizer.c (public API, settings, results), lm.c (the run loop),
+ * optimizer.c (the handle, the problem, the policy), settings.c (settings,
+ * bounds, fixed parameters, callback), results.c (results of a run),
+ * lm.c (the run loop), classify.c (gradient test, converged or stalled),
  * eval.c (problem evaluation), step.c (the damped, bounded step) and
  * analysis.c (condition and covariance at the end of a run). */
 #ifndef BRDFFIT_OPTIM_INTERNAL_H
@@ -95,6 +97,17 @@ struct brdffit_optimizer {
     bf_optim_result res;
     brdffit_error err; /* message of the last failed call; "" after success */
 };
+
+/* optimizer.c: BRDFFIT_OK after clearing the handle's message. */
+brdffit_status bf_optim_ok(brdffit_optimizer *opt);
+/* optimizer.c: BRDFFIT_E_INVALID_ARGUMENT for NULL, BRDFFIT_E_BAD_HANDLE
+ * for a destroyed or foreign handle. */
+brdffit_status bf_optim_check_handle(const brdffit_optimizer *opt);
+/* optimizer.c: as above, and not from inside the optimizer's own run
+ * (what names the call in the message). */
+brdffit_status bf_optim_check_mutable(brdffit_optimizer *opt, const char *what);
+/* settings.c: the default settings. */
+void bf_optim_default_settings(bf_optim_settings *s);
 
 /* optimizer.c: record a failure on the handle and return status. */
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
