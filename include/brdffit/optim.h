@@ -122,7 +122,8 @@ typedef enum brdffit_optim_setting {
     BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt, D = diag(J^T J) (default); 0 = Levenberg, D = d0 I with d0 the largest diagonal entry of J^T J at the start point. */
     BRDFFIT_OPT_DIAG_FLOOR = 7,     /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-12. */
     BRDFFIT_OPT_STEP_BOUND = 8,     /**< Largest change of a parameter in one step, relative to the largest magnitude it has had in the run (start included): a longer step is shortened along its direction; a parameter that has only been 0 sets no bound; default 1e300 (no bound). */
-    BRDFFIT_OPT_RESTART_BOUND = 9   /**< When a run stalls (::BRDFFIT_STOP_STALLED) it starts once more from the start point with this step bound (see ::BRDFFIT_OPT_STEP_BOUND) and returns the better of the two attempts; only when the value is below the step bound; default 1 (at most doubling a parameter's scale per step). Iterations, evaluations and history count both attempts. Set it to 1e300 to turn the restart off. */
+    BRDFFIT_OPT_RESTART_BOUND = 9,  /**< When a run stalls (::BRDFFIT_STOP_STALLED) it starts once more from the start point with this step bound (see ::BRDFFIT_OPT_STEP_BOUND) and returns the better of the two attempts; only when the value is below the step bound; default 1 (at most doubling a parameter's scale per step). Iterations, history and last improvement describe the attempt returned; evaluations count both. Set it to 1e300 to turn the restart off. */
+    BRDFFIT_OPT_COVARIANCE = 10     /**< The covariance brdffit_optimizer_covariance() and brdffit_optimizer_std_errors() report: 0 = classic s^2 (J^T J)^+ (default; assumes independent errors of one common variance, or residuals already divided by their standard deviations); 1 = sandwich (heteroscedasticity-robust, HC3): (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i J_i^T) (J^T J)^+ with the leverages h_i = J_i (J^T J)^+ J_i^T, which assumes only independent errors; residual form only (one more evaluation at the returned point). Recommended when the noise level varies between rows and the residuals are not weighted by it (multiplicative noise). */
 } brdffit_optim_setting;
 
 /** @brief Why a run ended. Values are fixed forever. */
@@ -369,27 +370,42 @@ BRDFFIT_API size_t brdffit_optimizer_history(const brdffit_optimizer *opt, doubl
 BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
 
 /**
- * @brief Covariance of the parameters at the returned point:
- *        s^2 (J^T J)^+ with s^2 = cost / (n_rows - n_free), over the free
+ * @brief Covariance of the parameters at the returned point, over the free
  *        parameters; rows and columns of fixed parameters, and of
  *        parameters on a bound, are 0.
  *
+ * Classic (::BRDFFIT_OPT_COVARIANCE 0, the default): s^2 (J^T J)^+ with
+ * s^2 = cost / (n_rows - n_free). It assumes independent residuals of one
+ * common variance (or residuals already divided by their standard
+ * deviations, as a weighted fit provides): it is wrong when the noise
+ * level varies between rows, e.g. multiplicative noise on unweighted
+ * residuals; when n_rows <= n_free, s^2 = 1. Sandwich (1, HC3):
+ * (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i J_i^T) (J^T J)^+ with the
+ * leverages h_i = J_i (J^T J)^+ J_i^T, which assumes only independent
+ * residuals (residual form only). docs/optimizer.md shows which one
+ * covers the true values as often as it claims for which noise.
+ *
  * The pseudo-inverse is taken after scaling J^T J to unit diagonal
  * (it equals the inverse when J^T J is nonsingular) and drops eigenvalues
- * below 1e-14 of the largest. When n_rows <= n_free there are no degrees
- * of freedom to estimate the residual variance from, and s^2 = 1 (the
- * residuals are taken as already divided by their standard deviations).
+ * below 1e-14 of the largest. A free parameter the data do not determine
+ * (a zero or vanished Jacobian column, or a direction at least 1 % of
+ * which lies in the dropped eigenspace) has variance HUGE_VAL and 0
+ * covariance with the others; never 0, never NaN.
  * Computed on demand, O(p^3).
  * @param opt The optimizer.
  * @param[out] cov p x p values, row-major.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
- *         ::BRDFFIT_E_INVALID_ARGUMENT.
+ *         ::BRDFFIT_E_INVALID_ARGUMENT for NULL, or when the run was asked
+ *         for the sandwich but had the normal-equation form (or its rows
+ *         could not be evaluated at the returned point).
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt,
                                                         double *cov);
 
 /**
- * @brief Standard errors: the square roots of the covariance diagonal.
+ * @brief Standard errors: the square roots of the covariance diagonal;
+ *        HUGE_VAL for a parameter the data do not determine, 0 for fixed
+ *        ones and those on a bound.
  * @param opt The optimizer.
  * @param[out] se p values.
  * @return As brdffit_optimizer_covariance().

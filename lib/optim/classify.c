@@ -34,21 +34,32 @@ int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost)
     return 1;
 }
 
-/* A parameter neither fixed nor on a bound whose column vanished: the
- * model's sensitivity to a relative change of it, |J_j| times its scale
- * (the largest magnitude it had in the run), is below DBL_EPSILON times
- * the largest such sensitivity. A parameter that has only been 0 has no
- * scale and is not judged. */
-static int column_vanished(const bf_optim_work *w, size_t p)
+/* The model's sensitivity to a relative change of parameter j: |J_j|
+ * times its scale (the largest magnitude it had in the run). */
+static double sensitivity(const bf_optim_work *w, size_t p, size_t j)
+{
+    return sqrt(w->jtj[j * p + j]) * w->xscale[j];
+}
+
+/* Parameter j's column vanished: its sensitivity is below DBL_EPSILON
+ * times the largest sensitivity of the analysed parameters. A parameter
+ * that has only been 0 has no scale and is not judged. */
+int bf_optim_vanished(const brdffit_optimizer *opt, size_t j)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t k, p = opt->n_params;
+    double top = 0.0;
+    if (!(w->xscale[j] > 0.0)) return 0;
+    for (k = 0; k < p; k++)
+        if (w->analysed[k]) top = fmax(top, sensitivity(w, p, k));
+    return !(sensitivity(w, p, j) > DBL_EPSILON * top);
+}
+
+static int column_vanished(const brdffit_optimizer *opt)
 {
     size_t j;
-    double top = 0.0;
-    for (j = 0; j < p; j++)
-        if (w->analysed[j]) top = fmax(top, sqrt(w->jtj[j * p + j]) * w->xscale[j]);
-    for (j = 0; j < p; j++) {
-        double s = sqrt(w->jtj[j * p + j]) * w->xscale[j];
-        if (w->analysed[j] && w->xscale[j] > 0.0 && !(s > DBL_EPSILON * top)) return 1;
-    }
+    for (j = 0; j < opt->n_params; j++)
+        if (opt->w.analysed[j] && bf_optim_vanished(opt, j)) return 1;
     return 0;
 }
 
@@ -56,5 +67,5 @@ brdffit_stop_reason bf_optim_classify(const brdffit_optimizer *opt, brdffit_stop
 {
     if (stop != BRDFFIT_STOP_STEP && stop != BRDFFIT_STOP_COST && stop != BRDFFIT_STOP_GRADIENT)
         return stop;
-    return column_vanished(&opt->w, opt->n_params) ? BRDFFIT_STOP_STALLED : stop;
+    return column_vanished(opt) ? BRDFFIT_STOP_STALLED : stop;
 }

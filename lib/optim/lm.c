@@ -361,6 +361,11 @@ brdffit_status bf_lm_run(brdffit_optimizer *opt, double *x)
     BF_RETURN_IF_ERROR(attempt(&run, &stop));
     if (stop == BRDFFIT_STOP_STALLED && opt->settings.restart_bound < opt->settings.step_bound)
         BF_RETURN_IF_ERROR(retry(&run, x, &stop));
+    opt->res.want_sandwich = opt->settings.sandwich;
+    if (opt->settings.sandwich && opt->form == BF_FORM_RESIDUALS) {
+        run.evaluations++;
+        opt->res.sandwich = bf_optim_prepare_sandwich(opt);
+    }
     opt->res.evaluations = run.evaluations;
     finish(&run, stop, x);
     return BRDFFIT_OK;

@@ -26,6 +26,7 @@ typedef struct bf_optim_settings {
     double gtol, xtol, ftol, diag_floor, step_bound, restart_bound;
     size_t max_iterations, max_evaluations;
     int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
+    int sandwich;  /* covariance: 1 sandwich, 0 classic */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {
@@ -35,6 +36,8 @@ typedef struct bf_optim_result {
     size_t iterations, evaluations, last_improvement, history_len;
     size_t n_rows; /* of the problem the run solved */
     int used_fallback;
+    int want_sandwich;  /* the run was asked for the sandwich covariance */
+    int sandwich;       /* and prepared it (w.meat) */
 } bf_optim_result;
 
 /* Workspace sized by n_params, carved from one block made at create.
@@ -62,6 +65,7 @@ typedef struct bf_optim_work {
     double *jtj_new; /* J^T J at an accepted trial point */
     double *m;       /* reduced damped matrix and its factor */
     double *v;       /* eigenvectors */
+    double *meat;    /* after a run: sum r_i^2 J_i J_i^T, for the sandwich */
     size_t *free_idx;
     unsigned char *fixed, *held;
     unsigned char *analysed; /* after a run: neither fixed nor on a bound */
@@ -145,6 +149,10 @@ int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
 /* classify.c: the gradient test at the current point (see lm.c). */
 int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost);
 
+/* classify.c: parameter j's Jacobian column vanished at the current point
+ * (needs bf_optim_mark_analysed()). */
+int bf_optim_vanished(const brdffit_optimizer *opt, size_t j);
+
 /* classify.c: the stop reason to report for a run that ended with stop at
  * the current point: BRDFFIT_STOP_STALLED instead of a small step,
  * reduction or gradient where a free parameter's Jacobian column vanished.
@@ -160,6 +168,9 @@ double bf_optim_condition(const brdffit_optimizer *opt);
 
 /* analysis.c: covariance (p x p) at the returned point into cov. */
 void bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
+/* analysis.c: the rows' outer products at the returned point into w.meat
+ * (residual form; one more evaluation); 0 when it cannot be evaluated. */
+int bf_optim_prepare_sandwich(brdffit_optimizer *opt);
 /* analysis.c: standard errors (p) at the returned point into se. */
 void bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
 

@@ -82,11 +82,20 @@ double brdffit_optimizer_condition(const brdffit_optimizer *opt)
     return bf_optim_check_handle(opt) == BRDFFIT_OK && opt->res.valid ? bf_optim_condition(opt) : NAN;
 }
 
+/* A successful run; for the sandwich, one in residual form whose rows
+ * could be evaluated at the returned point. */
+static brdffit_status covariance_ready(const brdffit_optimizer *opt)
+{
+    if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
+    if (opt->res.want_sandwich && !opt->res.sandwich) return BRDFFIT_E_INVALID_ARGUMENT;
+    return BRDFFIT_OK;
+}
+
 brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt, double *cov)
 {
     BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
     if (cov == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
-    if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
+    BF_RETURN_IF_ERROR(covariance_ready(opt));
     bf_optim_covariance(opt, cov);
     return BRDFFIT_OK;
 }
@@ -95,7 +104,7 @@ brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt, double
 {
     BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
     if (se == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
-    if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
+    BF_RETURN_IF_ERROR(covariance_ready(opt));
     bf_optim_std_errors(opt, se);
     return BRDFFIT_OK;
 }

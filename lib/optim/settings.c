@@ -11,7 +11,7 @@
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
 static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
-                                                   5000,  12000, 1};
+                                                   5000,  12000, 1,     0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
@@ -67,6 +67,12 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_STEP_BOUND: return set_tolerance(opt, &s->step_bound, value, d->step_bound);
     case BRDFFIT_OPT_RESTART_BOUND:
         return set_tolerance(opt, &s->restart_bound, value, d->restart_bound);
+    case BRDFFIT_OPT_COVARIANCE:
+        if (value != 0.0 && value != 1.0)
+            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
+                                 "covariance must be 0 (classic) or 1 (sandwich), got %g", value);
+        s->sandwich = value == 1.0;
+        return bf_optim_ok(opt);
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }
@@ -88,6 +94,7 @@ brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim
     case BRDFFIT_OPT_DIAG_FLOOR: *value = s->diag_floor; return BRDFFIT_OK;
     case BRDFFIT_OPT_STEP_BOUND: *value = s->step_bound; return BRDFFIT_OK;
     case BRDFFIT_OPT_RESTART_BOUND: *value = s->restart_bound; return BRDFFIT_OK;
+    case BRDFFIT_OPT_COVARIANCE: *value = s->sandwich ? 1.0 : 0.0; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }
