@@ -53,7 +53,8 @@ static void mark_undetermined(const brdffit_optimizer *opt, size_t n)
     for (a = 0; a < n; a++) {
         double null_weight = 0.0;
         for (k = 0; k < n; k++)
-            if (!(w->w[k] > BF_LINALG_RTOL * wmax)) null_weight += w->v[a * n + k] * w->v[a * n + k];
+            if (!(w->w[k] > BF_LINALG_RTOL * wmax))
+                null_weight += w->v[a * n + k] * w->v[a * n + k];
         w->held[a] = w->scale[a] == 0.0 || null_weight >= BF_NULL_WEIGHT ||
                      bf_optim_vanished(opt, w->free_idx[a]);
     }
@@ -108,7 +109,8 @@ static const double *middle(const brdffit_optimizer *opt, size_t n, double *fact
     *factor = 1.0;
     for (a = 0; a < n; a++)
         for (b = 0; b < n; b++)
-            w->v[a * n + b] = w->meat[w->free_idx[a] * p + w->free_idx[b]] * w->scale[a] * w->scale[b];
+            w->v[a * n + b] =
+                w->meat[w->free_idx[a] * p + w->free_idx[b]] * w->scale[a] * w->scale[b];
     multiply(w->m, w->v, n, w->jtj_new);
     multiply(w->jtj_new, w->m, n, w->v);
     return w->v;
@@ -147,8 +149,8 @@ void bf_optim_std_errors(const brdffit_optimizer *opt, double *se)
     n = scaled_pinv(opt);
     mid = middle(opt, n, &f);
     for (a = 0; a < n; a++)
-        se[w->free_idx[a]] = w->held[a] ? HUGE_VAL
-                                        : sqrt(f) * w->scale[a] * sqrt(fmax(mid[a * n + a], 0.0));
+        se[w->free_idx[a]] =
+            w->held[a] ? HUGE_VAL : sqrt(f) * w->scale[a] * sqrt(fmax(mid[a * n + a], 0.0));
 }
 
 /* Leverage h_i = J_i A^+ J_i^T of row i over C, with (S A S)^+ in w->m. */

@@ -1,4 +1,4 @@
-/* The Levenberg-Marquardt run loop (SPEC section 5).
+/* The Levenberg-Marquardt run loop (docs/optimizer.md).
  *
  * One iteration: compute the damped, bounded step (step.c); if it is
  * small, stop; evaluate the cost alone at the trial point; if it is lower,
@@ -8,7 +8,9 @@
  * the problem cannot evaluate (callback failure, NaN or Inf) is a rejected
  * step with rho = NaN. When a rejection leaves lambda where it was (a
  * policy at its cap), the next step is halved, so that every iteration
- * tries a new point and the step test ends the run eventually. Nothing
+ * tries a new point and the step test ends the run eventually. A run
+ * that ends stalled (classify.c) starts once more from the start with
+ * bounded steps, and the better attempt is returned. Nothing
  * here allocates except the history, and that only when a run needs more
  * than the capacity it started with. */
 #include <float.h>
@@ -30,7 +32,7 @@ typedef struct lm_run {
     double pred;        /* predicted reduction of the last step */
     double cost_before; /* cost before the last accepted step */
     size_t iterations, evaluations, last_improvement, history_len;
-    double bound;       /* step bound, relative to the parameter scales */
+    double bound; /* step bound, relative to the parameter scales */
     int accepted, bounded, fallback;
 } lm_run;
 

@@ -36,8 +36,8 @@ typedef struct bf_optim_result {
     size_t iterations, evaluations, last_improvement, history_len;
     size_t n_rows; /* of the problem the run solved */
     int used_fallback;
-    int want_sandwich;  /* the run was asked for the sandwich covariance */
-    int sandwich;       /* and prepared it (w.meat) */
+    int want_sandwich; /* the run was asked for the sandwich covariance */
+    int sandwich;      /* and prepared it (w.meat) */
 } bf_optim_result;
 
 /* Workspace sized by n_params, carved from one block made at create.

@@ -58,8 +58,9 @@ static int alloc_work(brdffit_optimizer *opt)
     size_t p = opt->n_params, pp = p * p, small, bytes, i;
     bf_optim_work *w = &opt->w;
     double *d;
-    double **vectors[BF_WORK_VECTORS] = {&w->x, &w->trial, &w->g, &w->g_new, &w->step,  &w->delta,
-                                         &w->d, &w->scale, &w->w, &w->tmp,   &w->lower, &w->upper, &w->xscale, &w->best};
+    double **vectors[BF_WORK_VECTORS] = {&w->x,     &w->trial, &w->g,      &w->g_new, &w->step,
+                                         &w->delta, &w->d,     &w->scale,  &w->w,     &w->tmp,
+                                         &w->lower, &w->upper, &w->xscale, &w->best};
     double **matrices[BF_WORK_MATRICES] = {&w->jtj, &w->jtj_new, &w->m, &w->v, &w->meat};
     /* matrices first, then vectors, indices and flags; p <= 4096: no
      * overflow. The matrices are always written before they are read and
@@ -256,4 +257,3 @@ brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double *x)
     }
     return bf_optim_ok(opt);
 }
-

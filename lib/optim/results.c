@@ -59,7 +59,8 @@ size_t brdffit_optimizer_evaluations(const brdffit_optimizer *opt)
 
 size_t brdffit_optimizer_last_improvement(const brdffit_optimizer *opt)
 {
-    return bf_optim_check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.last_improvement : 0;
+    return bf_optim_check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.last_improvement
+                                                                      : 0;
 }
 
 int brdffit_optimizer_used_fallback(const brdffit_optimizer *opt)
@@ -79,7 +80,8 @@ size_t brdffit_optimizer_history(const brdffit_optimizer *opt, double *cost, dou
 
 double brdffit_optimizer_condition(const brdffit_optimizer *opt)
 {
-    return bf_optim_check_handle(opt) == BRDFFIT_OK && opt->res.valid ? bf_optim_condition(opt) : NAN;
+    return bf_optim_check_handle(opt) == BRDFFIT_OK && opt->res.valid ? bf_optim_condition(opt)
+                                                                      : NAN;
 }
 
 /* A successful run; for the sandwich, one in residual form whose rows

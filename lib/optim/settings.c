@@ -10,8 +10,8 @@
  * more in double precision. */
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
-                                                   5000,  12000, 1,     0};
+static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300,
+                                                   1.0,   5000,  12000, 1,     0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
@@ -31,6 +31,15 @@ static brdffit_status set_limit(brdffit_optimizer *opt, size_t *field, double va
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                              "%s must be a whole number up to 2^53, got %g", name, value);
     *field = value == 0.0 ? def : (size_t)value;
+    return bf_optim_ok(opt);
+}
+
+/* A setting that is 0 or 1. */
+static brdffit_status set_switch(brdffit_optimizer *opt, int *field, double value, const char *what)
+{
+    if (value != 0.0 && value != 1.0)
+        return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "%s, got %g", what, value);
+    *field = value == 1.0;
     return bf_optim_ok(opt);
 }
 
@@ -54,11 +63,8 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_MAX_EVALUATIONS:
         return set_limit(opt, &s->max_evaluations, value, d->max_evaluations, "max evaluations");
     case BRDFFIT_OPT_SCALING:
-        if (value != 0.0 && value != 1.0)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "scaling must be 0 (Levenberg) or 1 (Marquardt), got %g", value);
-        s->marquardt = value == 1.0;
-        return bf_optim_ok(opt);
+        return set_switch(opt, &s->marquardt, value,
+                          "scaling must be 0 (Levenberg) or 1 (Marquardt)");
     case BRDFFIT_OPT_DIAG_FLOOR:
         if (value > 1.0)
             return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
@@ -68,11 +74,8 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_RESTART_BOUND:
         return set_tolerance(opt, &s->restart_bound, value, d->restart_bound);
     case BRDFFIT_OPT_COVARIANCE:
-        if (value != 0.0 && value != 1.0)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "covariance must be 0 (classic) or 1 (sandwich), got %g", value);
-        s->sandwich = value == 1.0;
-        return bf_optim_ok(opt);
+        return set_switch(opt, &s->sandwich, value,
+                          "covariance must be 0 (classic) or 1 (sandwich)");
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }

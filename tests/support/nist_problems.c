@@ -281,6 +281,7 @@ static double m_bennett5(const double *b, const double *x, double *g)
 
 #define N(a, stride) (sizeof(a) / sizeof(a[0]) / (stride))
 
+/* clang-format off */
 static const nist_problem problems[] = {
     /* lower difficulty */
     {"Misra1a", 2, N(nist_misra1a_data, 2), nist_misra1a_data, 2, 0, m_misra1a,
@@ -384,6 +385,7 @@ static const nist_problem problems[] = {
      {{-2000, 50, 0.8}, {-1500, 45, 0.85}},
      {-2.5235058043E+03, 4.6736564644E+01, 9.3218483193E-01}, 5.2404744073E-04},
 };
+/* clang-format on */
 
 const nist_problem *nist_problems(size_t *count)
 {
