@@ -118,6 +118,9 @@ static void run_one(const nist_problem *p, size_t start, const brdffit_damping *
     out->evaluations = brdffit_optimizer_evaluations(opt);
     out->cost = brdffit_optimizer_final_cost(opt);
     assert_true(out->cost == rss_at(p, x));
+    /* a restarted run reports the attempt it returns */
+    assert_int_equal(brdffit_optimizer_history(opt, NULL, NULL), out->iterations + 1);
+    assert_true(brdffit_optimizer_last_improvement(opt) <= out->iterations);
     out->lre = 15.0;
     for (j = 0; j < p->n_params; j++) out->lre = fmin(out->lre, nist_lre(x[j], p->certified[j]));
     brdffit_optimizer_destroy(opt);
