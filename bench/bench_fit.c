@@ -48,6 +48,7 @@ static const char *stop_name(brdffit_stop_reason r)
     case BRDFFIT_STOP_MAX_ITERATIONS: return "max-iter";
     case BRDFFIT_STOP_MAX_EVALUATIONS: return "max-eval";
     case BRDFFIT_STOP_ZERO_COST: return "zero-cost";
+    case BRDFFIT_STOP_STALLED: return "stalled";
     default: return "other";
     }
 }

@@ -142,6 +142,13 @@ static int finite_nonneg(double x)
     return isfinite(x) && x >= 0.0;
 }
 
+/* A standard error: finite and >= 0, or HUGE_VAL for a parameter the data
+ * do not determine (never NaN). */
+static int valid_se(double x)
+{
+    return finite_nonneg(x) || x == HUGE_VAL;
+}
+
 /* The universal rule; `what` names the case in failure messages. */
 static void check_outcome(const outcome *o, const brdffit_model *model, const char *what)
 {
@@ -157,11 +164,11 @@ static void check_outcome(const outcome *o, const brdffit_model *model, const ch
         for (c = 0; c < o->nc; c++) {
             size_t at = brdffit_model_vector_index(model, k, c, o->nc);
             double v = o->params[at];
-            if (!(isfinite(v) && v >= info->lower && v <= info->upper && finite_nonneg(o->se[at])))
+            if (!(isfinite(v) && v >= info->lower && v <= info->upper && valid_se(o->se[at])))
                 print_error("%s: %s[%zu] = %g (se %g) outside [%g, %g] or not finite\n", what,
                             info->name, c, v, o->se[at], info->lower, info->upper);
             assert_true(isfinite(v) && v >= info->lower && v <= info->upper);
-            assert_true(finite_nonneg(o->se[at]));
+            assert_true(valid_se(o->se[at]));
         }
     }
     if (!(finite_nonneg(o->rms) && finite_nonneg(o->ngan) && finite_nonneg(o->cost)))

@@ -73,6 +73,16 @@ static void test_settings_defaults_and_restore(void **state)
     assert_true(get(opt, BRDFFIT_OPT_MAX_EVALUATIONS) == 12000);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 1);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
+    assert_true(get(opt, BRDFFIT_OPT_STEP_BOUND) == 1e300);
+    assert_true(get(opt, BRDFFIT_OPT_RESTART_BOUND) == 1.0);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_BOUND, 3.0), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_RESTART_BOUND, 0.5), BRDFFIT_OK);
+    assert_true(get(opt, BRDFFIT_OPT_STEP_BOUND) == 3.0);
+    assert_true(get(opt, BRDFFIT_OPT_RESTART_BOUND) == 0.5);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_BOUND, 0), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_RESTART_BOUND, 0), BRDFFIT_OK);
+    assert_true(get(opt, BRDFFIT_OPT_STEP_BOUND) == 1e300);
+    assert_true(get(opt, BRDFFIT_OPT_RESTART_BOUND) == 1.0);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, 1e-6), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, 17), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALING, 0), BRDFFIT_OK);
@@ -205,7 +215,9 @@ static void test_invalid_arguments(void **state)
     assert_int_equal(brdffit_optimizer_run(opt, NULL), BRDFFIT_E_INVALID_ARGUMENT);
     assert_int_equal(brdffit_optimizer_covariance(opt, cov), BRDFFIT_E_NOT_READY);
     assert_int_equal(brdffit_optimizer_std_errors(opt, cov), BRDFFIT_E_NOT_READY);
+    assert_int_equal(brdffit_optimizer_converged(opt), 0);
     assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_converged(opt), 1);
     assert_string_equal(brdffit_optimizer_message(opt), "");
     assert_int_equal(brdffit_optimizer_covariance(opt, NULL), BRDFFIT_E_INVALID_ARGUMENT);
     assert_int_equal(brdffit_optimizer_std_errors(opt, NULL), BRDFFIT_E_INVALID_ARGUMENT);
@@ -223,6 +235,7 @@ static void test_invalid_arguments(void **state)
     assert_int_equal(brdffit_optimizer_std_errors(NULL, cov), BRDFFIT_E_INVALID_ARGUMENT);
     brdffit_optimizer_cancel(NULL);
     assert_int_equal(brdffit_optimizer_stop_reason(NULL), BRDFFIT_STOP_NONE);
+    assert_int_equal(brdffit_optimizer_converged(NULL), 0);
     assert_true(isnan(brdffit_optimizer_final_cost(NULL)));
     assert_int_equal(brdffit_optimizer_history(NULL, NULL, NULL), 0);
     brdffit_optimizer_destroy(opt);

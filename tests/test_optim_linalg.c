@@ -1,12 +1,12 @@
-/* The internal dense linear algebra of the optimizer (lib/optim/linalg.h):
- * Cholesky with its conditioning check, the Jacobi eigen-solver, the
- * pseudo-inverse and the condition number, against matrices with known
- * answers. */
+/* The internal dense linear algebra (lib/core/linalg.h) that the optimizer
+ * and the fit code share: Cholesky with its conditioning check, the Jacobi
+ * eigen-solver, the pseudo-inverse and the condition number, against
+ * matrices with known answers. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "optim/linalg.h"
+#include "core/linalg.h"
 #include "optim_problems.h"
 #include "test_support.h"
 

@@ -115,12 +115,15 @@ typedef struct brdffit_damping {
 /** @brief Numeric settings for brdffit_optimizer_set(). Values are fixed forever. */
 typedef enum brdffit_optim_setting {
     BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| / sqrt(A_jj * cost) <= gtol, g = J^T r, A = J^T J, over the parameters that may move (not fixed, not pushing out of a bound): the cosine between the residual vector and each Jacobian column, independent of the units of parameters and residuals; default 1e-13. */
-    BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has ||step|| <= xtol * (||x|| + xtol), before it is evaluated; default 1e-10. */
+    BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has |step_j| <= xtol * (|x_j| + xtol) for every parameter j, before it is evaluated; default 1e-10. */
     BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by at most ftol * cost and the model predicted no more; default 1e-15. */
     BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 5000; at most 2^53. */
     BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 12000; at most 2^53. */
     BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt, D = diag(J^T J) (default); 0 = Levenberg, D = d0 I with d0 the largest diagonal entry of J^T J at the start point. */
-    BRDFFIT_OPT_DIAG_FLOOR = 7      /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-15. */
+    BRDFFIT_OPT_DIAG_FLOOR = 7,     /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-12. */
+    BRDFFIT_OPT_STEP_BOUND = 8,     /**< Largest change of a parameter in one step, relative to the largest magnitude it has had in the run (start included): a longer step is shortened along its direction; a parameter that has only been 0 sets no bound; default 1e300 (no bound). */
+    BRDFFIT_OPT_RESTART_BOUND = 9,  /**< When a run stalls (::BRDFFIT_STOP_STALLED) it starts once more from the start point with this step bound (see ::BRDFFIT_OPT_STEP_BOUND) and returns the better of the two attempts; only when the value is below the step bound; default 1 (at most doubling a parameter's scale per step). Iterations, history and last improvement describe the attempt returned; evaluations count both. Set it to 1e300 to turn the restart off. */
+    BRDFFIT_OPT_COVARIANCE = 10     /**< The covariance brdffit_optimizer_covariance() and brdffit_optimizer_std_errors() report: 0 = classic s^2 (J^T J)^+ (default; assumes independent errors of one common variance, or residuals already divided by their standard deviations); 1 = sandwich (heteroscedasticity-robust, HC3): (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i J_i^T) (J^T J)^+ with the leverages h_i = J_i (J^T J)^+ J_i^T, which assumes only independent errors; residual form only (one more evaluation at the returned point). Recommended when the noise level varies between rows and the residuals are not weighted by it (multiplicative noise). */
 } brdffit_optim_setting;
 
 /** @brief Why a run ended. Values are fixed forever. */
@@ -133,7 +136,8 @@ typedef enum brdffit_stop_reason {
     BRDFFIT_STOP_MAX_EVALUATIONS = 5,/**< Evaluation limit reached. */
     BRDFFIT_STOP_CANCELLED = 6,     /**< brdffit_optimizer_cancel() was called. */
     BRDFFIT_STOP_CALLBACK = 7,      /**< The iteration callback asked to stop. */
-    BRDFFIT_STOP_ZERO_COST = 8      /**< The cost reached zero (below DBL_MIN). */
+    BRDFFIT_STOP_ZERO_COST = 8,     /**< The cost reached zero (below DBL_MIN). */
+    BRDFFIT_STOP_STALLED = 9        /**< Not converged: the run ended on a small step, reduction or gradient at a point where the problem no longer depends on a free parameter (its Jacobian column, times the largest magnitude the parameter had, is below DBL_EPSILON of the largest such column): a plateau where a parameter ran away. The point returned is the best one found (see ::BRDFFIT_OPT_RESTART_BOUND). */
 } brdffit_stop_reason;
 
 /**
@@ -312,6 +316,17 @@ BRDFFIT_API brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double 
 /** @brief Why the last run ended; ::BRDFFIT_STOP_NONE before a run or after a failed one. */
 BRDFFIT_API brdffit_stop_reason brdffit_optimizer_stop_reason(const brdffit_optimizer *opt);
 
+/**
+ * @brief Whether the last run converged: it ended with
+ *        ::BRDFFIT_STOP_GRADIENT, ::BRDFFIT_STOP_STEP, ::BRDFFIT_STOP_COST or
+ *        ::BRDFFIT_STOP_ZERO_COST. 0 for a run that stalled
+ *        (::BRDFFIT_STOP_STALLED), hit a limit, was cancelled or stopped by
+ *        its callback; 0 before a run, after a failed one and for NULL or a
+ *        destroyed handle. Only the returned point's standing as a solution
+ *        is judged, not whether it is the global minimum.
+ */
+BRDFFIT_API int brdffit_optimizer_converged(const brdffit_optimizer *opt);
+
 /** @brief A short static description of a stop reason. Never NULL. Thread-safe. */
 BRDFFIT_API const char *brdffit_stop_reason_string(brdffit_stop_reason reason);
 
@@ -355,27 +370,42 @@ BRDFFIT_API size_t brdffit_optimizer_history(const brdffit_optimizer *opt, doubl
 BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
 
 /**
- * @brief Covariance of the parameters at the returned point:
- *        s^2 (J^T J)^+ with s^2 = cost / (n_rows - n_free), over the free
+ * @brief Covariance of the parameters at the returned point, over the free
  *        parameters; rows and columns of fixed parameters, and of
  *        parameters on a bound, are 0.
  *
+ * Classic (::BRDFFIT_OPT_COVARIANCE 0, the default): s^2 (J^T J)^+ with
+ * s^2 = cost / (n_rows - n_free). It assumes independent residuals of one
+ * common variance (or residuals already divided by their standard
+ * deviations, as a weighted fit provides): it is wrong when the noise
+ * level varies between rows, e.g. multiplicative noise on unweighted
+ * residuals; when n_rows <= n_free, s^2 = 1. Sandwich (1, HC3):
+ * (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i J_i^T) (J^T J)^+ with the
+ * leverages h_i = J_i (J^T J)^+ J_i^T, which assumes only independent
+ * residuals (residual form only). docs/optimizer.md shows which one
+ * covers the true values as often as it claims for which noise.
+ *
  * The pseudo-inverse is taken after scaling J^T J to unit diagonal
  * (it equals the inverse when J^T J is nonsingular) and drops eigenvalues
- * below 1e-14 of the largest. When n_rows <= n_free there are no degrees
- * of freedom to estimate the residual variance from, and s^2 = 1 (the
- * residuals are taken as already divided by their standard deviations).
+ * below 1e-14 of the largest. A free parameter the data do not determine
+ * (a zero or vanished Jacobian column, or a direction at least 1 % of
+ * which lies in the dropped eigenspace) has variance HUGE_VAL and 0
+ * covariance with the others; never 0, never NaN.
  * Computed on demand, O(p^3).
  * @param opt The optimizer.
  * @param[out] cov p x p values, row-major.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
- *         ::BRDFFIT_E_INVALID_ARGUMENT.
+ *         ::BRDFFIT_E_INVALID_ARGUMENT for NULL, or when the run was asked
+ *         for the sandwich but had the normal-equation form (or its rows
+ *         could not be evaluated at the returned point).
  */
 BRDFFIT_API brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt,
                                                         double *cov);
 
 /**
- * @brief Standard errors: the square roots of the covariance diagonal.
+ * @brief Standard errors: the square roots of the covariance diagonal;
+ *        HUGE_VAL for a parameter the data do not determine, 0 for fixed
+ *        ones and those on a bound.
  * @param opt The optimizer.
  * @param[out] se p values.
  * @return As brdffit_optimizer_covariance().

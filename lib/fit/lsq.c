@@ -1,6 +1,6 @@
 #include "fit/lsq.h"
 
-#include "optim/linalg.h"
+#include "core/linalg.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* The built-in damping policies (docs/definitions.md). Each is a read-only
+/* The built-in damping policies (docs/optimizer.md). Each is a read-only
  * vtable; per-run state, where needed, lives in the optimizer. */
 #include <math.h>
 

@@ -1,4 +1,4 @@
-/* The Levenberg-Marquardt run loop (docs/definitions.md, The damped step).
+/* The Levenberg-Marquardt run loop (docs/optimizer.md).
  *
  * One iteration: compute the damped, bounded step (step.c); if it is
  * small, stop; evaluate the cost alone at the trial point; if it is lower,
@@ -8,7 +8,9 @@
  * the problem cannot evaluate (callback failure, NaN or Inf) is a rejected
  * step with rho = NaN. When a rejection leaves lambda where it was (a
  * policy at its cap), the next step is halved, so that every iteration
- * tries a new point and the step test ends the run eventually. Nothing
+ * tries a new point and the step test ends the run eventually. A run
+ * that ends stalled (classify.c) starts once more from the start with
+ * bounded steps, and the better attempt is returned. Nothing
  * here allocates except the history, and that only when a run needs more
  * than the capacity it started with. */
 #include <float.h>
@@ -29,8 +31,9 @@ typedef struct lm_run {
     double actual;      /* cost reduction of the last accepted step */
     double pred;        /* predicted reduction of the last step */
     double cost_before; /* cost before the last accepted step */
-    size_t iterations, evaluations, last_improvement;
-    int accepted, fallback;
+    size_t iterations, evaluations, last_improvement, history_len;
+    double bound; /* step bound, relative to the parameter scales */
+    int accepted, bounded, fallback;
 } lm_run;
 
 static double clamp_lambda(double lambda, double previous)
@@ -39,18 +42,6 @@ static double clamp_lambda(double lambda, double previous)
     if (lambda < BF_LAMBDA_MIN) return BF_LAMBDA_MIN;
     if (lambda > BF_LAMBDA_MAX) return BF_LAMBDA_MAX;
     return lambda;
-}
-
-/* Euclidean norm without overflow for large entries. */
-static double norm2(const double *v, size_t n)
-{
-    double m = 0.0, s = 0.0;
-    size_t i;
-    for (i = 0; i < n; i++)
-        if (fabs(v[i]) > m) m = fabs(v[i]);
-    if (m == 0.0 || !isfinite(m)) return m;
-    for (i = 0; i < n; i++) s += (v[i] / m) * (v[i] / m);
-    return m * sqrt(s);
 }
 
 /* --- history ---------------------------------------------------------------- */
@@ -81,51 +72,37 @@ static brdffit_status history_reserve(brdffit_optimizer *opt, size_t need)
 static brdffit_status history_push(lm_run *run)
 {
     brdffit_optimizer *opt = run->opt;
-    size_t i = run->iterations;
+    size_t i = run->history_len;
     BF_RETURN_IF_ERROR(history_reserve(opt, i + 1));
     opt->history[i] = run->cost;
     opt->history[opt->history_cap + i] = run->lambda;
+    run->history_len = i + 1;
     return BRDFFIT_OK;
 }
 
 /* --- stopping tests ----------------------------------------------------------- */
-
-/* max_j |g_j| / sqrt(A_jj cost) <= gtol, over the components that may move
- * (not fixed, not pushing out of a bound): the cosine of the angle between
- * the residual vector and each Jacobian column, which neither the units of
- * the parameters nor those of the residuals change. A zero column never
- * passes; with no component free to move the test passes. */
-static int gradient_small(const lm_run *run)
-{
-    const brdffit_optimizer *opt = run->opt;
-    const bf_optim_work *w = &opt->w;
-    const double scale = opt->settings.gtol * sqrt(run->cost);
-    size_t j, p = opt->n_params;
-    for (j = 0; j < p; j++) {
-        double x = w->x[j], g = w->g[j], a = w->jtj[j * p + j];
-        if (w->fixed[j] || (x <= w->lower[j] && g > 0.0) || (x >= w->upper[j] && g < 0.0)) continue;
-        if (!(a > 0.0) || !(fabs(g) <= scale * sqrt(a))) return 0;
-    }
-    return 1;
-}
 
 static brdffit_stop_reason check_before(const lm_run *run)
 {
     const brdffit_optimizer *opt = run->opt;
     if (atomic_load(&run->opt->cancel)) return BRDFFIT_STOP_CANCELLED;
     if (run->cost < DBL_MIN) return BRDFFIT_STOP_ZERO_COST;
-    if (gradient_small(run)) return BRDFFIT_STOP_GRADIENT;
+    if (bf_optim_gradient_small(opt, run->cost)) return BRDFFIT_STOP_GRADIENT;
     if (run->iterations >= opt->settings.max_iterations) return BRDFFIT_STOP_MAX_ITERATIONS;
     /* a step needs room for the trial and the derivatives there */
     if (run->evaluations + 2 > opt->settings.max_evaluations) return BRDFFIT_STOP_MAX_EVALUATIONS;
     return BRDFFIT_STOP_NONE;
 }
 
+/* Every parameter's step is small against its own magnitude, so a large
+ * parameter does not hide the others' progress. */
 static int step_small(const brdffit_optimizer *opt)
 {
-    size_t p = opt->n_params;
+    size_t j, p = opt->n_params;
     double xtol = opt->settings.xtol;
-    return norm2(opt->w.step, p) <= xtol * (norm2(opt->w.x, p) + xtol);
+    for (j = 0; j < p; j++)
+        if (!(fabs(opt->w.step[j]) <= xtol * (fabs(opt->w.x[j]) + xtol))) return 0;
+    return 1;
 }
 
 /* The accepted step lowered the cost by at most ftol * cost, and the
@@ -143,6 +120,14 @@ static void swap(double **a, double **b)
     double *t = *a;
     *a = *b;
     *b = t;
+}
+
+/* The parameter scales: the largest magnitudes so far, the trial point's
+ * included (it is about to become the current point). */
+static void note_scale(bf_optim_work *w, size_t p)
+{
+    size_t j;
+    for (j = 0; j < p; j++) w->xscale[j] = fmax(w->xscale[j], fabs(w->trial[j]));
 }
 
 /* Evaluate the trial point; move there when the cost is lower and the
@@ -167,6 +152,7 @@ static int try_step(lm_run *run)
         run->rho = NAN;
         return 0;
     }
+    note_scale(w, opt->n_params);
     swap(&w->x, &w->trial);
     swap(&w->jtj, &w->jtj_new);
     swap(&w->g, &w->g_new);
@@ -215,13 +201,16 @@ static brdffit_status iterate(lm_run *run, brdffit_stop_reason *stop)
 {
     brdffit_optimizer *opt = run->opt;
     *stop = BRDFFIT_STOP_NONE;
-    run->pred = bf_optim_step(opt, run->lambda, run->t, &run->fallback);
+    run->pred = bf_optim_step(opt, run->lambda, run->t, run->bound, &run->bounded, &run->fallback);
     if (step_small(opt)) {
         *stop = BRDFFIT_STOP_STEP;
         return BRDFFIT_OK;
     }
     run->iterations++;
     run->accepted = try_step(run);
+#ifdef BF_EXP_GROWB
+    if (run->accepted && run->bounded && run->rho > 0.75) run->bound *= BF_EXP_GROWB;
+#endif
     if (run->accepted) run->last_improvement = run->iterations;
     update_lambda(run);
     BF_RETURN_IF_ERROR(history_push(run));
@@ -246,8 +235,29 @@ static brdffit_status load_start(brdffit_optimizer *opt, const double *x)
         if (!isfinite(v))
             return bf_optim_fail(opt, BRDFFIT_E_NONFINITE, "run: start value x[%zu] is %g", j, v);
         w->x[j] = v;
+        w->xscale[j] = fabs(v);
     }
     return BRDFFIT_OK;
+}
+
+/* Begin an attempt at the caller's start point x with step bound bound:
+ * fresh damping, the start evaluated with derivatives. */
+static brdffit_status begin(lm_run *run, const double *x, double bound, char *what, size_t size)
+{
+    brdffit_optimizer *opt = run->opt;
+    brdffit_status st;
+    BF_RETURN_IF_ERROR(load_start(opt, x));
+    if (opt->policy.state_size > 0) memset(opt->policy_state, 0, opt->policy.state_size);
+    run->lambda = 1e-3;
+    opt->policy.init(opt->policy_state, &run->lambda, opt->policy.user);
+    run->lambda = clamp_lambda(run->lambda, 1e-3);
+    run->t = 1.0;
+    run->bound = bound;
+    run->evaluations++;
+    st = bf_optim_eval(opt, opt->w.x, 1, &run->cost, opt->w.jtj, opt->w.g, what, size);
+    if (st != BRDFFIT_OK) return st;
+    bf_optim_update_scaling(opt, 1);
+    return history_push(run);
 }
 
 static brdffit_status start(lm_run *run, const double *x)
@@ -256,20 +266,75 @@ static brdffit_status start(lm_run *run, const double *x)
     char what[160];
     brdffit_status st;
     size_t cap = opt->settings.max_iterations + 1;
-    BF_RETURN_IF_ERROR(load_start(opt, x));
     BF_RETURN_IF_ERROR(history_reserve(opt, cap < BF_HISTORY_START ? cap : BF_HISTORY_START));
-    if (opt->policy.state_size > 0) memset(opt->policy_state, 0, opt->policy.state_size);
-    run->lambda = 1e-3;
-    opt->policy.init(opt->policy_state, &run->lambda, opt->policy.user);
-    run->lambda = clamp_lambda(run->lambda, 1e-3);
-    run->t = 1.0;
-    run->evaluations = 1;
     opt->res.evaluations = 1;
-    st = bf_optim_eval(opt, opt->w.x, 1, &run->cost, opt->w.jtj, opt->w.g, what, sizeof what);
-    if (st != BRDFFIT_OK) return bf_optim_fail(opt, st, "run: %s at the start point", what);
+    what[0] = '\0';
+    st = begin(run, x, opt->settings.step_bound, what, sizeof what);
+    if (st != BRDFFIT_OK && what[0] != '\0')
+        return bf_optim_fail(opt, st, "run: %s at the start point", what);
+    BF_RETURN_IF_ERROR(st);
     opt->res.initial_cost = run->cost;
-    bf_optim_update_scaling(opt, 1);
-    return history_push(run);
+    return BRDFFIT_OK;
+}
+
+/* Iterate until a stop; the stop as classified at the point reached. */
+static brdffit_status attempt(lm_run *run, brdffit_stop_reason *stop)
+{
+    *stop = BRDFFIT_STOP_NONE;
+    while (*stop == BRDFFIT_STOP_NONE) {
+        *stop = check_before(run);
+        if (*stop != BRDFFIT_STOP_NONE) break;
+        BF_RETURN_IF_ERROR(iterate(run, stop));
+    }
+    bf_optim_mark_analysed(run->opt);
+    *stop = bf_optim_classify(run->opt, *stop);
+    return BRDFFIT_OK;
+}
+
+/* The second attempt wins: its iterations and history, from its start,
+ * become the run's; h1 and it1 are the first attempt's history length and
+ * iteration count. */
+static void keep_second(lm_run *run, size_t h1, size_t it1)
+{
+    brdffit_optimizer *opt = run->opt;
+    size_t n = run->history_len - h1;
+    memmove(opt->history, opt->history + h1, n * sizeof *opt->history);
+    memmove(opt->history + opt->history_cap, opt->history + opt->history_cap + h1,
+            n * sizeof *opt->history);
+    run->history_len = n;
+    run->iterations -= it1;
+    run->last_improvement = run->last_improvement > it1 ? run->last_improvement - it1 : 0;
+}
+
+/* After a stalled attempt: once more from the start, with the restart
+ * bound on the steps, so that a parameter cannot run away onto the
+ * plateau again. Keeps the better attempt (the second when it is not
+ * stalled or ends lower), with its iterations and history; the first
+ * is evaluated again when it wins, so that J^T J and J^T r belong to the
+ * point returned. Evaluations count both. */
+static brdffit_status retry(lm_run *run, const double *x, brdffit_stop_reason *stop)
+{
+    brdffit_optimizer *opt = run->opt;
+    bf_optim_work *w = &opt->w;
+    brdffit_stop_reason first = *stop;
+    double first_cost = run->cost;
+    size_t h1 = run->history_len, it1 = run->iterations, li1 = run->last_improvement;
+    memcpy(w->best, w->x, opt->n_params * sizeof *w->best);
+    if (begin(run, x, opt->settings.restart_bound, NULL, 0) != BRDFFIT_OK) return BRDFFIT_OK;
+    BF_RETURN_IF_ERROR(attempt(run, stop));
+    if (*stop != BRDFFIT_STOP_STALLED || run->cost < first_cost) {
+        keep_second(run, h1, it1);
+        return BRDFFIT_OK;
+    }
+    memcpy(w->x, w->best, opt->n_params * sizeof *w->x);
+    run->evaluations++;
+    (void)bf_optim_eval(opt, w->x, 1, &run->cost, w->jtj, w->g, NULL, 0); /* as before */
+    bf_optim_mark_analysed(opt);
+    run->history_len = h1;
+    run->iterations = it1;
+    run->last_improvement = li1;
+    *stop = first;
+    return BRDFFIT_OK;
 }
 
 static void finish(lm_run *run, brdffit_stop_reason stop, double *x)
@@ -282,9 +347,8 @@ static void finish(lm_run *run, brdffit_stop_reason stop, double *x)
     res->evaluations = run->evaluations;
     res->last_improvement = run->last_improvement;
     res->used_fallback = run->fallback;
-    res->history_len = run->iterations + 1;
+    res->history_len = run->history_len;
     res->n_rows = opt->n_rows;
-    bf_optim_mark_analysed(opt);
     memcpy(x, opt->w.x, opt->n_params * sizeof *x);
     res->valid = 1;
 }
@@ -296,10 +360,13 @@ brdffit_status bf_lm_run(brdffit_optimizer *opt, double *x)
     memset(&run, 0, sizeof run);
     run.opt = opt;
     BF_RETURN_IF_ERROR(start(&run, x));
-    while (stop == BRDFFIT_STOP_NONE) {
-        stop = check_before(&run);
-        if (stop != BRDFFIT_STOP_NONE) break;
-        BF_RETURN_IF_ERROR(iterate(&run, &stop));
+    BF_RETURN_IF_ERROR(attempt(&run, &stop));
+    if (stop == BRDFFIT_STOP_STALLED && opt->settings.restart_bound < opt->settings.step_bound)
+        BF_RETURN_IF_ERROR(retry(&run, x, &stop));
+    opt->res.want_sandwich = opt->settings.sandwich;
+    if (opt->settings.sandwich && opt->form == BF_FORM_RESIDUALS) {
+        run.evaluations++;
+        opt->res.sandwich = bf_optim_prepare_sandwich(opt);
     }
     opt->res.evaluations = run.evaluations;
     finish(&run, stop, x);

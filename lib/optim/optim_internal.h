@@ -1,5 +1,7 @@
 /* The optimizer handle and the internal interface between its files:
- * optimizer.c (public API, settings, results), lm.c (the run loop),
+ * optimizer.c (the handle, the problem, the policy), settings.c (settings,
+ * bounds, fixed parameters, callback), results.c (results of a run),
+ * lm.c (the run loop), classify.c (gradient test, converged or stalled),
  * eval.c (problem evaluation), step.c (the damped, bounded step) and
  * analysis.c (condition and covariance at the end of a run). */
 #ifndef BRDFFIT_OPTIM_INTERNAL_H
@@ -21,9 +23,10 @@
 typedef enum bf_form { BF_FORM_NONE = 0, BF_FORM_RESIDUALS = 1, BF_FORM_NORMAL = 2 } bf_form;
 
 typedef struct bf_optim_settings {
-    double gtol, xtol, ftol, diag_floor;
+    double gtol, xtol, ftol, diag_floor, step_bound, restart_bound;
     size_t max_iterations, max_evaluations;
     int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
+    int sandwich;  /* covariance: 1 sandwich, 0 classic */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {
@@ -33,6 +36,8 @@ typedef struct bf_optim_result {
     size_t iterations, evaluations, last_improvement, history_len;
     size_t n_rows; /* of the problem the run solved */
     int used_fallback;
+    int want_sandwich; /* the run was asked for the sandwich covariance */
+    int sandwich;      /* and prepared it (w.meat) */
 } bf_optim_result;
 
 /* Workspace sized by n_params, carved from one block made at create.
@@ -53,11 +58,14 @@ typedef struct bf_optim_work {
     double *w;     /* eigenvalues */
     double *tmp;   /* scratch */
     double *lower, *upper;
+    double *xscale; /* largest |x_j| of the run so far (the start included) */
+    double *best;   /* the point a stalled attempt ended at */
     /* p x p values each */
     double *jtj;     /* J^T J at x */
     double *jtj_new; /* J^T J at an accepted trial point */
     double *m;       /* reduced damped matrix and its factor */
     double *v;       /* eigenvectors */
+    double *meat;    /* after a run: sum r_i^2 J_i J_i^T, for the sandwich */
     size_t *free_idx;
     unsigned char *fixed, *held;
     unsigned char *analysed; /* after a run: neither fixed nor on a bound */
@@ -94,6 +102,17 @@ struct brdffit_optimizer {
     brdffit_error err; /* message of the last failed call; "" after success */
 };
 
+/* optimizer.c: BRDFFIT_OK after clearing the handle's message. */
+brdffit_status bf_optim_ok(brdffit_optimizer *opt);
+/* optimizer.c: BRDFFIT_E_INVALID_ARGUMENT for NULL, BRDFFIT_E_BAD_HANDLE
+ * for a destroyed or foreign handle. */
+brdffit_status bf_optim_check_handle(const brdffit_optimizer *opt);
+/* optimizer.c: as above, and not from inside the optimizer's own run
+ * (what names the call in the message). */
+brdffit_status bf_optim_check_mutable(brdffit_optimizer *opt, const char *what);
+/* settings.c: the default settings. */
+void bf_optim_default_settings(bf_optim_settings *s);
+
 /* optimizer.c: record a failure on the handle and return status. */
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -121,10 +140,24 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
  * w.trial (inside the box) and w.step = trial - x, and returns the
  * reduction of the cost the linear model predicts for that step. Sets
  * *fallback when the eigen-decomposition replaced Cholesky. */
-double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallback);
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                     int *fallback);
 
 /* step.c: whether parameter j sits on its lower or upper bound. */
 int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
+
+/* classify.c: the gradient test at the current point (see lm.c). */
+int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost);
+
+/* classify.c: parameter j's Jacobian column vanished at the current point
+ * (needs bf_optim_mark_analysed()). */
+int bf_optim_vanished(const brdffit_optimizer *opt, size_t j);
+
+/* classify.c: the stop reason to report for a run that ended with stop at
+ * the current point: BRDFFIT_STOP_STALLED instead of a small step,
+ * reduction or gradient where a free parameter's Jacobian column vanished.
+ * Needs bf_optim_mark_analysed() first. */
+brdffit_stop_reason bf_optim_classify(const brdffit_optimizer *opt, brdffit_stop_reason stop);
 
 /* analysis.c: at the end of a run, mark the parameters the condition
  * number and the covariance are taken over. */
@@ -135,6 +168,9 @@ double bf_optim_condition(const brdffit_optimizer *opt);
 
 /* analysis.c: covariance (p x p) at the returned point into cov. */
 void bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
+/* analysis.c: the rows' outer products at the returned point into w.meat
+ * (residual form; one more evaluation); 0 when it cannot be evaluated. */
+int bf_optim_prepare_sandwich(brdffit_optimizer *opt);
 /* analysis.c: standard errors (p) at the returned point into se. */
 void bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
 

@@ -1,5 +1,6 @@
-/* The optimizer handle: creation, problem and settings, results. The run
- * loop is in lm.c. */
+/* The optimizer handle: creation, the problem, the damping policy and the
+ * entry to a run. Settings and bounds are in settings.c, the results of a
+ * run in results.c, the run loop in lm.c. */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -7,13 +8,7 @@
 #include "core/core.h"
 #include "optim/optim_internal.h"
 
-/* Limits are doubles in the setter; larger values are not integers any
- * more in double precision. */
-#define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
-
-enum { BF_WORK_VECTORS = 12, BF_WORK_MATRICES = 4 };
-
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 5000, 12000, 1};
+enum { BF_WORK_VECTORS = 14, BF_WORK_MATRICES = 5 };
 
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
 {
@@ -24,14 +19,14 @@ brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, cons
     return status;
 }
 
-static brdffit_status ok(brdffit_optimizer *opt)
+brdffit_status bf_optim_ok(brdffit_optimizer *opt)
 {
     opt->err.status = BRDFFIT_OK;
     opt->err.message[0] = '\0';
     return BRDFFIT_OK;
 }
 
-static brdffit_status check_handle(const brdffit_optimizer *opt)
+brdffit_status bf_optim_check_handle(const brdffit_optimizer *opt)
 {
     if (opt == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     if (opt->magic != BF_MAGIC_OPTIMIZER) return BRDFFIT_E_BAD_HANDLE;
@@ -39,9 +34,9 @@ static brdffit_status check_handle(const brdffit_optimizer *opt)
 }
 
 /* For calls that change the optimizer: not from inside its own run. */
-static brdffit_status check_mutable(brdffit_optimizer *opt, const char *what)
+brdffit_status bf_optim_check_mutable(brdffit_optimizer *opt, const char *what)
 {
-    BF_RETURN_IF_ERROR(check_handle(opt));
+    BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
     if (opt->running)
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                              "%s: the optimizer cannot be changed while it runs", what);
@@ -63,9 +58,10 @@ static int alloc_work(brdffit_optimizer *opt)
     size_t p = opt->n_params, pp = p * p, small, bytes, i;
     bf_optim_work *w = &opt->w;
     double *d;
-    double **vectors[BF_WORK_VECTORS] = {&w->x, &w->trial, &w->g, &w->g_new, &w->step,  &w->delta,
-                                         &w->d, &w->scale, &w->w, &w->tmp,   &w->lower, &w->upper};
-    double **matrices[BF_WORK_MATRICES] = {&w->jtj, &w->jtj_new, &w->m, &w->v};
+    double **vectors[BF_WORK_VECTORS] = {&w->x,     &w->trial, &w->g,      &w->g_new, &w->step,
+                                         &w->delta, &w->d,     &w->scale,  &w->w,     &w->tmp,
+                                         &w->lower, &w->upper, &w->xscale, &w->best};
+    double **matrices[BF_WORK_MATRICES] = {&w->jtj, &w->jtj_new, &w->m, &w->v, &w->meat};
     /* matrices first, then vectors, indices and flags; p <= 4096: no
      * overflow. The matrices are always written before they are read and
      * are not touched here, so a large optimizer costs no memory it does
@@ -123,7 +119,7 @@ brdffit_status brdffit_optimizer_create(brdffit_optimizer **out, size_t n_params
     if (opt == NULL) return bf_fail(err, BRDFFIT_E_OUT_OF_MEMORY, "cannot allocate the optimizer");
     opt->alloc = a;
     opt->n_params = n_params;
-    opt->settings = default_settings;
+    bf_optim_default_settings(&opt->settings);
     atomic_init(&opt->cancel, 0);
     reset_result(&opt->res);
     if (!alloc_work(opt) || install_policy(opt, brdffit_damping_nielsen()) != BRDFFIT_OK) {
@@ -140,7 +136,7 @@ brdffit_status brdffit_optimizer_create(brdffit_optimizer **out, size_t n_params
 void brdffit_optimizer_destroy(brdffit_optimizer *opt)
 {
     brdffit_allocator a;
-    if (check_handle(opt) != BRDFFIT_OK) return;
+    if (bf_optim_check_handle(opt) != BRDFFIT_OK) return;
     a = opt->alloc;
     opt->magic = BF_MAGIC_DEAD;
     bf_free(&a, opt->r);
@@ -152,7 +148,7 @@ void brdffit_optimizer_destroy(brdffit_optimizer *opt)
 
 size_t brdffit_optimizer_param_count(const brdffit_optimizer *opt)
 {
-    return check_handle(opt) == BRDFFIT_OK ? opt->n_params : 0;
+    return bf_optim_check_handle(opt) == BRDFFIT_OK ? opt->n_params : 0;
 }
 
 const char *brdffit_optimizer_message(const brdffit_optimizer *opt)
@@ -181,7 +177,7 @@ brdffit_status brdffit_optimizer_set_residuals(brdffit_optimizer *opt, size_t n_
 {
     size_t cells, total;
     double *r;
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_residuals"));
+    BF_RETURN_IF_ERROR(bf_optim_check_mutable(opt, "set_residuals"));
     if (fn == NULL)
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "set_residuals: fn is NULL");
     if (n_rows < 1)
@@ -203,13 +199,13 @@ brdffit_status brdffit_optimizer_set_residuals(brdffit_optimizer *opt, size_t n_
     opt->n_rows = n_rows;
     opt->residual_fn = fn;
     opt->user = user;
-    return ok(opt);
+    return bf_optim_ok(opt);
 }
 
 brdffit_status brdffit_optimizer_set_normal(brdffit_optimizer *opt, size_t n_rows,
                                             brdffit_normal_fn fn, void *user)
 {
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_normal"));
+    BF_RETURN_IF_ERROR(bf_optim_check_mutable(opt, "set_normal"));
     if (fn == NULL) return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "set_normal: fn is NULL");
     if (n_rows < 1)
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "set_normal: n_rows is 0");
@@ -218,12 +214,12 @@ brdffit_status brdffit_optimizer_set_normal(brdffit_optimizer *opt, size_t n_row
     opt->n_rows = n_rows;
     opt->normal_fn = fn;
     opt->user = user;
-    return ok(opt);
+    return bf_optim_ok(opt);
 }
 
 brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt, const brdffit_damping *policy)
 {
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_damping"));
+    BF_RETURN_IF_ERROR(bf_optim_check_mutable(opt, "set_damping"));
     if (policy == NULL) policy = brdffit_damping_nielsen();
     if (policy->struct_size < sizeof(brdffit_damping))
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
@@ -234,134 +230,7 @@ brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt, const brdff
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                              "set_damping: the policy needs init, accept and reject");
     BF_RETURN_IF_ERROR(install_policy(opt, policy));
-    return ok(opt);
-}
-
-/* --- settings ------------------------------------------------------------------ */
-
-static brdffit_status set_tolerance(brdffit_optimizer *opt, double *field, double value, double def)
-{
-    *field = value == 0.0 ? def : value;
-    return ok(opt);
-}
-
-static brdffit_status set_limit(brdffit_optimizer *opt, size_t *field, double value, size_t def,
-                                const char *name)
-{
-    if (value != floor(value) || value > BF_MAX_LIMIT || value > (double)(SIZE_MAX / 4))
-        return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                             "%s must be a whole number up to 2^53, got %g", name, value);
-    *field = value == 0.0 ? def : (size_t)value;
-    return ok(opt);
-}
-
-brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setting setting,
-                                     double value)
-{
-    bf_optim_settings *s;
-    const bf_optim_settings *d = &default_settings;
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set"));
-    s = &opt->settings;
-    if (!isfinite(value) || value < 0.0)
-        return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                             "setting %d: the value must be finite and >= 0, got %g", (int)setting,
-                             value);
-    switch (setting) {
-    case BRDFFIT_OPT_GTOL: return set_tolerance(opt, &s->gtol, value, d->gtol);
-    case BRDFFIT_OPT_XTOL: return set_tolerance(opt, &s->xtol, value, d->xtol);
-    case BRDFFIT_OPT_FTOL: return set_tolerance(opt, &s->ftol, value, d->ftol);
-    case BRDFFIT_OPT_MAX_ITERATIONS:
-        return set_limit(opt, &s->max_iterations, value, d->max_iterations, "max iterations");
-    case BRDFFIT_OPT_MAX_EVALUATIONS:
-        return set_limit(opt, &s->max_evaluations, value, d->max_evaluations, "max evaluations");
-    case BRDFFIT_OPT_SCALING:
-        if (value != 0.0 && value != 1.0)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "scaling must be 0 (Levenberg) or 1 (Marquardt), got %g", value);
-        s->marquardt = value == 1.0;
-        return ok(opt);
-    case BRDFFIT_OPT_DIAG_FLOOR:
-        if (value > 1.0)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "diagonal floor must be at most 1, got %g", value);
-        return set_tolerance(opt, &s->diag_floor, value, d->diag_floor);
-    }
-    return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
-}
-
-brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim_setting setting,
-                                     double *value)
-{
-    const bf_optim_settings *s;
-    BF_RETURN_IF_ERROR(check_handle(opt));
-    if (value == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
-    s = &opt->settings;
-    switch (setting) {
-    case BRDFFIT_OPT_GTOL: *value = s->gtol; return BRDFFIT_OK;
-    case BRDFFIT_OPT_XTOL: *value = s->xtol; return BRDFFIT_OK;
-    case BRDFFIT_OPT_FTOL: *value = s->ftol; return BRDFFIT_OK;
-    case BRDFFIT_OPT_MAX_ITERATIONS: *value = (double)s->max_iterations; return BRDFFIT_OK;
-    case BRDFFIT_OPT_MAX_EVALUATIONS: *value = (double)s->max_evaluations; return BRDFFIT_OK;
-    case BRDFFIT_OPT_SCALING: *value = s->marquardt ? 1.0 : 0.0; return BRDFFIT_OK;
-    case BRDFFIT_OPT_DIAG_FLOOR: *value = s->diag_floor; return BRDFFIT_OK;
-    }
-    return BRDFFIT_E_INVALID_ARGUMENT;
-}
-
-/* --- bounds, fixed parameters, callback, cancel --------------------------------- */
-
-static brdffit_status check_bounds(brdffit_optimizer *opt, const double *lower, const double *upper)
-{
-    size_t j;
-    for (j = 0; j < opt->n_params; j++) {
-        double lo = lower ? lower[j] : -HUGE_VAL, hi = upper ? upper[j] : HUGE_VAL;
-        if (isnan(lo) || isnan(hi))
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "set_bounds: the bound of parameter %zu is NaN", j);
-        if (lo > hi)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "set_bounds: parameter %zu has lower %g > upper %g", j, lo, hi);
-        if (lo == HUGE_VAL || hi == -HUGE_VAL)
-            return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
-                                 "set_bounds: no finite value of parameter %zu lies in [%g, %g]", j,
-                                 lo, hi);
-    }
-    return BRDFFIT_OK;
-}
-
-brdffit_status brdffit_optimizer_set_bounds(brdffit_optimizer *opt, const double *lower,
-                                            const double *upper)
-{
-    size_t j;
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_bounds"));
-    BF_RETURN_IF_ERROR(check_bounds(opt, lower, upper));
-    for (j = 0; j < opt->n_params; j++) {
-        opt->w.lower[j] = lower ? lower[j] : -HUGE_VAL;
-        opt->w.upper[j] = upper ? upper[j] : HUGE_VAL;
-    }
-    return ok(opt);
-}
-
-brdffit_status brdffit_optimizer_set_fixed(brdffit_optimizer *opt, const unsigned char *mask)
-{
-    size_t j;
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_fixed"));
-    for (j = 0; j < opt->n_params; j++) opt->w.fixed[j] = mask != NULL && mask[j] != 0;
-    return ok(opt);
-}
-
-brdffit_status brdffit_optimizer_set_callback(brdffit_optimizer *opt, brdffit_iteration_fn fn,
-                                              void *user)
-{
-    BF_RETURN_IF_ERROR(check_mutable(opt, "set_callback"));
-    opt->callback = fn;
-    opt->callback_user = fn != NULL ? user : NULL;
-    return ok(opt);
-}
-
-void brdffit_optimizer_cancel(brdffit_optimizer *opt)
-{
-    if (check_handle(opt) == BRDFFIT_OK) atomic_store(&opt->cancel, 1);
+    return bf_optim_ok(opt);
 }
 
 /* --- the run ------------------------------------------------------------------------ */
@@ -369,7 +238,7 @@ void brdffit_optimizer_cancel(brdffit_optimizer *opt)
 brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double *x)
 {
     brdffit_status st;
-    BF_RETURN_IF_ERROR(check_mutable(opt, "run"));
+    BF_RETURN_IF_ERROR(bf_optim_check_mutable(opt, "run"));
     if (x == NULL) return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "run: x is NULL");
     reset_result(&opt->res);
     if (opt->form == BF_FORM_NONE) {
@@ -386,91 +255,5 @@ brdffit_status brdffit_optimizer_run(brdffit_optimizer *opt, double *x)
         opt->res.stop = BRDFFIT_STOP_NONE;
         return st;
     }
-    return ok(opt);
-}
-
-/* --- results ---------------------------------------------------------------------------- */
-
-brdffit_stop_reason brdffit_optimizer_stop_reason(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK ? opt->res.stop : BRDFFIT_STOP_NONE;
-}
-
-const char *brdffit_stop_reason_string(brdffit_stop_reason reason)
-{
-    switch (reason) {
-    case BRDFFIT_STOP_NONE: return "no run, or the run failed";
-    case BRDFFIT_STOP_GRADIENT: return "small gradient";
-    case BRDFFIT_STOP_STEP: return "small step";
-    case BRDFFIT_STOP_COST: return "small relative cost reduction";
-    case BRDFFIT_STOP_MAX_ITERATIONS: return "iteration limit reached";
-    case BRDFFIT_STOP_MAX_EVALUATIONS: return "evaluation limit reached";
-    case BRDFFIT_STOP_CANCELLED: return "cancelled";
-    case BRDFFIT_STOP_CALLBACK: return "stopped by the iteration callback";
-    case BRDFFIT_STOP_ZERO_COST: return "cost reached zero";
-    }
-    return "unknown stop reason";
-}
-
-double brdffit_optimizer_initial_cost(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.initial_cost : NAN;
-}
-
-double brdffit_optimizer_final_cost(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.final_cost : NAN;
-}
-
-size_t brdffit_optimizer_iterations(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.iterations : 0;
-}
-
-size_t brdffit_optimizer_evaluations(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK ? opt->res.evaluations : 0;
-}
-
-size_t brdffit_optimizer_last_improvement(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.last_improvement : 0;
-}
-
-int brdffit_optimizer_used_fallback(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? opt->res.used_fallback : 0;
-}
-
-size_t brdffit_optimizer_history(const brdffit_optimizer *opt, double *cost, double *lambda)
-{
-    size_t n;
-    if (check_handle(opt) != BRDFFIT_OK || !opt->res.valid) return 0;
-    n = opt->res.history_len;
-    if (cost != NULL) memcpy(cost, opt->history, n * sizeof *cost);
-    if (lambda != NULL) memcpy(lambda, opt->history + opt->history_cap, n * sizeof *lambda);
-    return n;
-}
-
-double brdffit_optimizer_condition(const brdffit_optimizer *opt)
-{
-    return check_handle(opt) == BRDFFIT_OK && opt->res.valid ? bf_optim_condition(opt) : NAN;
-}
-
-brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt, double *cov)
-{
-    BF_RETURN_IF_ERROR(check_handle(opt));
-    if (cov == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
-    if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
-    bf_optim_covariance(opt, cov);
-    return BRDFFIT_OK;
-}
-
-brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt, double *se)
-{
-    BF_RETURN_IF_ERROR(check_handle(opt));
-    if (se == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
-    if (!opt->res.valid) return BRDFFIT_E_NOT_READY;
-    bf_optim_std_errors(opt, se);
-    return BRDFFIT_OK;
+    return bf_optim_ok(opt);
 }

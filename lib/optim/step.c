@@ -14,7 +14,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "optim/linalg.h"
+#include "core/linalg.h"
 #include "optim/optim_internal.h"
 
 int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x)
@@ -121,6 +121,23 @@ static int hold_outward(bf_optim_work *w, size_t nf)
     return changed;
 }
 
+/* Shorten delta, keeping its direction, so that no parameter changes by
+ * more than bound times its scale (the largest magnitude it has had in
+ * the run). A parameter that has only ever been 0 has no scale and sets
+ * no bound. */
+static int bound_step(bf_optim_work *w, size_t nf, double bound)
+{
+    size_t a;
+    double r = 0.0;
+    for (a = 0; a < nf; a++) {
+        double s = w->xscale[w->free_idx[a]];
+        if (s > 0.0 && fabs(w->delta[a]) > r * s) r = fabs(w->delta[a]) / s;
+    }
+    if (!(r > bound)) return 0;
+    for (a = 0; a < nf; a++) w->delta[a] *= bound / r;
+    return 1;
+}
+
 /* trial = P(x + t delta), step = trial - x. */
 static void project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
 {
@@ -155,7 +172,8 @@ static double predicted_reduction(const bf_optim_work *w, size_t p)
     return -(2.0 * gs + sas);
 }
 
-double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallback)
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                     int *fallback)
 {
     bf_optim_work *w = &opt->w;
     size_t p = opt->n_params, nf;
@@ -166,6 +184,7 @@ double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, int *fallb
         solve_reduced(opt, nf, lambda, fallback);
         if (!hold_outward(w, nf)) break;
     }
+    *bounded = nf > 0 && bound_step(w, nf, bound);
     project_trial(w, p, nf, t);
     return predicted_reduction(w, p);
 }

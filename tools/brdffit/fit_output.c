@@ -26,6 +26,7 @@ const char *cli_stop_token(brdffit_stop_reason reason)
     case BRDFFIT_STOP_CANCELLED: return "cancelled";
     case BRDFFIT_STOP_CALLBACK: return "callback";
     case BRDFFIT_STOP_ZERO_COST: return "zero-cost";
+    case BRDFFIT_STOP_STALLED: return "stalled";
     }
     return "unknown";
 }

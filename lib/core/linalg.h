@@ -1,9 +1,9 @@
-/* Dense symmetric linear algebra for the optimizer and the fit code:
+/* Dense symmetric linear algebra shared by the optimizer and the fit code:
  * Cholesky with a conditioning check, a cyclic Jacobi eigen-solver, and
  * pseudo-inverses built from the eigen-decomposition. All matrices are
  * n x n, row-major, contiguous (row stride n). Nothing here allocates. */
-#ifndef BRDFFIT_OPTIM_LINALG_H
-#define BRDFFIT_OPTIM_LINALG_H
+#ifndef BRDFFIT_CORE_LINALG_H
+#define BRDFFIT_CORE_LINALG_H
 
 #include <stddef.h>
 
@@ -43,4 +43,4 @@ void bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, doub
  * smallest is not positive, 1 when n is 0. */
 double bf_eigen_condition(const double *w, size_t n);
 
-#endif /* BRDFFIT_OPTIM_LINALG_H */
+#endif /* BRDFFIT_CORE_LINALG_H */

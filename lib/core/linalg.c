@@ -1,6 +1,6 @@
 /* Dense symmetric linear algebra: Cholesky with a conditioning check,
  * cyclic Jacobi eigen-decomposition, pseudo-inverses. See linalg.h. */
-#include "optim/linalg.h"
+#include "core/linalg.h"
 
 #include <float.h>
 #include <math.h>
