@@ -287,6 +287,49 @@ static void test_fresnel_valley(void **state)
     brdffit_model_destroy(model);
 }
 
+/* value = cd nv, whatever k: the data cannot tell k, the run stalls. */
+static brdffit_status idle_eval(const brdffit_batch *b, const double *p, size_t nc,
+                               double *values, double *jac, void *user)
+{
+    size_t s, c, n = b->n;
+    (void)user;
+    for (s = 0; s < n; s++)
+        for (c = 0; c < nc; c++) {
+            values[c * n + s] = p[1 + c] * b->nv[s];
+            if (jac != NULL) {
+                jac[c * n + s] = 0.0;
+                jac[(nc + c) * n + s] = b->nv[s];
+            }
+        }
+    return BRDFFIT_OK;
+}
+
+static void test_stalled(void **state)
+{
+    const brdffit_param_info params[] = {
+        {"k", 0, 0.0, 10.0, 1.0},
+        {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
+    };
+    const double v[2][8] = {{1.0}, CD};
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *model = NULL;
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    (void)state;
+    def.name = "idle";
+    def.n_params = 2;
+    def.params = params;
+    def.eval = idle_eval;
+    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
+    grid = grid_of(model, v, NULL);
+    assert_true(warnings_of(&fit, grid, model, BRDFFIT_PIPELINE_JOINT) & BRDFFIT_WARN_STALLED);
+    assert_int_equal(brdffit_fit_stop_reason(fit), BRDFFIT_STOP_STALLED);
+    assert_text(fit, BRDFFIT_WARN_STALLED, "stalled");
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
 /* The default axes in degrees, read as if they were radians' worth of
  * degrees: 0 .. 90 becomes 0 .. 1.5708 degrees. */
 static void test_radians_given_as_degrees(void **state)
@@ -335,7 +378,7 @@ static void test_bad_calls(void **state)
     assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_ALBEDO | BRDFFIT_WARN_AT_BOUND,
                                               text, sizeof text),
                      BRDFFIT_E_INVALID_ARGUMENT);
-    assert_int_equal(brdffit_fit_warning_text(fit, 256, text, sizeof text),
+    assert_int_equal(brdffit_fit_warning_text(fit, 512, text, sizeof text),
                      BRDFFIT_E_INVALID_ARGUMENT);
     assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_ALBEDO, NULL, 8),
                      BRDFFIT_E_INVALID_ARGUMENT);
@@ -353,19 +396,19 @@ static void test_names(void **state)
 {
     unsigned w;
     size_t i = 0;
-    const char *seen[8];
+    const char *seen[9];
     (void)state;
-    for (w = 1; w <= BRDFFIT_WARN_DEGREES_AS_RADIANS; w <<= 1) {
+    for (w = 1; w <= BRDFFIT_WARN_STALLED; w <<= 1) {
         size_t j;
         const char *name = brdffit_warning_name(w);
         assert_non_null(name);
         for (j = 0; j < i; j++) assert_string_not_equal(seen[j], name);
         seen[i++] = name;
     }
-    assert_int_equal(i, 8);
+    assert_int_equal(i, 9);
     assert_null(brdffit_warning_name(0));
     assert_null(brdffit_warning_name(3));
-    assert_null(brdffit_warning_name(256));
+    assert_null(brdffit_warning_name(512));
     assert_string_equal(brdffit_warning_name(BRDFFIT_WARN_ALBEDO), "albedo-above-1");
 }
 
@@ -382,6 +425,7 @@ int main(void)
         cmocka_unit_test(test_lobes_merged),
         cmocka_unit_test(test_fresnel_valley),
         cmocka_unit_test(test_radians_given_as_degrees),
+        cmocka_unit_test(test_stalled),
         cmocka_unit_test(test_bad_calls),
         cmocka_unit_test(test_names),
     };

@@ -278,6 +278,8 @@ BRDFFIT_API size_t brdffit_fit_passes(const brdffit_fit *fit);
  * - ::BRDFFIT_WARN_DEGREES_AS_RADIANS: every polar angle of the grid is at
  *   most pi/2 degrees (but not all 0): angles given in radians where
  *   degrees were expected look like this.
+ * - ::BRDFFIT_WARN_STALLED: the final optimizer run ended with
+ *   ::BRDFFIT_STOP_STALLED, at a point that is not converged.
  */
 typedef enum brdffit_warning {
     BRDFFIT_WARN_AT_BOUND = 1,             /**< A free shape parameter on a bound. */
@@ -287,7 +289,8 @@ typedef enum brdffit_warning {
     BRDFFIT_WARN_ITERATION_LIMIT = 16,     /**< The final LM run hit a limit. */
     BRDFFIT_WARN_STOPPED_EARLY = 32,       /**< Cancelled or stopped by the callback. */
     BRDFFIT_WARN_LOBES_MERGED = 64,        /**< Two lobes that are one. */
-    BRDFFIT_WARN_DEGREES_AS_RADIANS = 128  /**< Angles that look like radians read as degrees. */
+    BRDFFIT_WARN_DEGREES_AS_RADIANS = 128, /**< Angles that look like radians read as degrees. */
+    BRDFFIT_WARN_STALLED = 256             /**< The final LM run stalled (::BRDFFIT_STOP_STALLED). */
 } brdffit_warning;
 
 /**
@@ -321,7 +324,7 @@ BRDFFIT_API brdffit_status brdffit_fit_warning_text(const brdffit_fit *fit, unsi
 /**
  * @brief The short name of one warning bit ("at-bound", "no-diffuse",
  *        "albedo-above-1", "fresnel-valley", "iteration-limit",
- *        "stopped-early", "lobes-merged", "radians-as-degrees"), as the
+ *        "stopped-early", "lobes-merged", "radians-as-degrees", "stalled"), as the
  *        command's JSON output uses them; NULL unless @p warning is exactly
  *        one known bit. The strings are static. Thread-safe.
  */

@@ -160,6 +160,10 @@ static unsigned stop(verdict *v)
     if (r == BRDFFIT_STOP_MAX_ITERATIONS || r == BRDFFIT_STOP_MAX_EVALUATIONS)
         return say(v, BRDFFIT_WARN_ITERATION_LIMIT, "the last optimizer run ended at its %s",
                    r == BRDFFIT_STOP_MAX_ITERATIONS ? "iteration limit" : "evaluation limit");
+    if (r == BRDFFIT_STOP_STALLED)
+        return say(v, BRDFFIT_WARN_STALLED,
+                   "the last optimizer run stalled: it stopped where a parameter's "
+                   "derivatives vanished, not at a converged point");
     if (r == BRDFFIT_STOP_CANCELLED || r == BRDFFIT_STOP_CALLBACK)
         return say(v, BRDFFIT_WARN_STOPPED_EARLY, "the fit was %s before it converged",
                    r == BRDFFIT_STOP_CANCELLED ? "cancelled" : "stopped by its callback");
@@ -264,6 +268,7 @@ const char *brdffit_warning_name(unsigned warning)
     case BRDFFIT_WARN_STOPPED_EARLY: return "stopped-early";
     case BRDFFIT_WARN_LOBES_MERGED: return "lobes-merged";
     case BRDFFIT_WARN_DEGREES_AS_RADIANS: return "radians-as-degrees";
+    case BRDFFIT_WARN_STALLED: return "stalled";
     default: return NULL;
     }
 }
