@@ -103,10 +103,17 @@ BRDFFIT_API brdffit_status brdffit_load_csv_buffer(brdffit_grid **out, const cha
  *
  * With @p axes NULL the result is a scattered grid holding one sample per
  * MERL cell with at least one measured channel whose light and view both
- * lie above the horizon (1,096,216 for a complete file; about 128 bytes of
+ * lie above the horizon (1,096,216 for a complete file; about 136 bytes of
  * grid per sample), directions at the cell centres (theta_h = ((i + 0.5) /
  * 90)^2 pi/2, theta_d = (j + 0.5) / 90 pi/2, phi_d = (k + 0.5) / 180 pi,
- * phi_h = 0), three channels, unmeasured channels missing. With @p axes the
+ * phi_h = 0), three channels, unmeasured channels missing. Each sample's
+ * given weight (brdffit_grid_create_scattered()) is the measure, in sr^2,
+ * of its cell in light x view space: every pair of directions above the
+ * horizon whose half/difference angles lie in the cell, over all phi_h and
+ * both phi_d and phi_d + pi (docs/measure.md derives it). The weights of a
+ * complete file add up to 39.2173 sr^2, 0.66 % short of (2 pi)^2 (the
+ * cells whose centre lies below the horizon are left out); a highlight
+ * cell is about 10^-6 of a wide one. With @p axes the
  * file is resampled onto a regular grid with those axes
  * (brdffit_axes_default() for the thesis's layout): each grid sample (light
  * at azimuth pi) takes the value of the MERL cell holding its
