@@ -50,6 +50,14 @@ extern "C" {
  *   C locale says): a value printed with %.17g loads back unchanged.
  * - Angles: theta in [0, 90]; phi in [-360, 360] in the scattered form and
  *   phi_o in [0, 180] in the grid form.
+ * - Weights: the scattered form may have a column named "weight" right
+ *   after phi_o (theta_i,phi_i,theta_o,phi_o,weight,...). Each of its
+ *   fields must be a finite number >= 0 (never missing); they become the
+ *   samples' given weights (brdffit_grid_create_scattered(), used by
+ *   ::BRDFFIT_WEIGHT_SOLID_ANGLE), and the weight is no channel. Without
+ *   the column every sample weighs the same. A "weight" header anywhere
+ *   else, or in the grid form (whose weights follow from the axes), is an
+ *   error.
  * - Grid form: the distinct values of each angle column (compared exactly
  *   as parsed) form the axes; the rows, in any order, must hold every
  *   combination exactly once.
@@ -64,9 +72,11 @@ extern "C" {
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_IO (missing or unreadable file);
  *         ::BRDFFIT_E_PARSE (empty file, no data rows, unknown header,
- *         wrong column count, malformed number, missing angle);
- *         ::BRDFFIT_E_RANGE (negative or infinite value, angle out of
- *         range, two axis values in degrees that coincide in radians);
+ *         wrong column count, malformed number, missing angle or weight,
+ *         a misplaced weight column);
+ *         ::BRDFFIT_E_RANGE (negative or infinite value or weight, angle
+ *         out of range, two axis values in degrees that coincide in
+ *         radians);
  *         ::BRDFFIT_E_INCOMPLETE_GRID (naming one missing combination in
  *         degrees); ::BRDFFIT_E_DUPLICATE (naming the combination and both
  *         lines); ::BRDFFIT_E_TOO_LARGE (more than 2^31 values, or axes
