@@ -452,6 +452,51 @@ BRDFFIT_API brdffit_status brdffit_model_albedo(const brdffit_model *model,
                                                 unsigned quality, double *albedo,
                                                 brdffit_error *err);
 
+/**
+ * @brief The look error: the compressive log error of a model against a
+ *        grid's measured values over every sample within a cap.
+ *
+ *     E = sqrt(sum a_s d_sc^2 / sum a_s),
+ *     d_sc = ln(1 + cos(theta_i) M_c(s)) - ln(1 + cos(theta_i) R_c(s)),
+ *
+ * M the model with @p params, R the grid's value, theta_i the light's
+ * polar angle of sample s (its cosine taken as 0 below the horizon), a_s
+ * the sample's ::BRDFFIT_WEIGHT_SOLID_ANGLE weight of
+ * brdffit_grid_weights() (the solid angle of its view cell, or its given
+ * weight, normalised within the cap), both sums over the samples within
+ * the cap and the present (not missing) values of the channels asked for.
+ * The logarithm compresses the highlight, so E says how well the model
+ * looks like the measurement everywhere, not only at the peak; it does
+ * not depend on how the parameters were found. E = 0 exactly when the
+ * model matches every value used.
+ *
+ * @param model    The model.
+ * @param grid     The measurement; its channel count is the model's.
+ * @param params   brdffit_model_vector_size() values for the grid's
+ *                 channels.
+ * @param cap      Angle cap in radians, 0 .. pi/2 (grid.h).
+ * @param channel  A channel index, or (size_t)-1 (::BRDFFIT_ALL_CHANNELS
+ *                 of fit.h) for every channel together.
+ * @param[out] out Receives E; untouched on failure.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (NULL arguments, a
+ *         cap out of range, a channel out of range);
+ *         ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_NO_DATA when no sample lies
+ *         within the cap or the weights of the present values there sum
+ *         to 0; ::BRDFFIT_E_RANGE when the model is negative at a sample
+ *         used (naming it); ::BRDFFIT_E_NONFINITE, ::BRDFFIT_E_MODEL_FAILED
+ *         as brdffit_model_eval_grid(); ::BRDFFIT_E_OUT_OF_MEMORY (one
+ *         block of 64 values per channel, and for a regular grid a few
+ *         per-axis values, through the model's allocator).
+ * @note One pass over the samples within the cap. Thread-safe, provided
+ *       the model's evaluation callback is.
+ */
+BRDFFIT_API brdffit_status brdffit_model_log_error(const brdffit_model *model,
+                                                   const brdffit_grid *grid,
+                                                   const double *params, double cap,
+                                                   size_t channel, double *out,
+                                                   brdffit_error *err);
+
 #ifdef __cplusplus
 }
 #endif
