@@ -583,8 +583,8 @@ static void test_weight_column_errors(void **state)
     /* where the column may stand */
     expect_error("theta_i,phi_i,theta_o,phi_o,r,weight\n0,0,0,0,1,1\n", BRDFFIT_E_PARSE,
                  "line 1, column 6", "must directly follow phi_o");
-    expect_error("theta_i,theta_o,phi_o,weight,r\n0,0,0,1,1\n", BRDFFIT_E_PARSE,
-                 "line 1, column 4", "grid form has no weight column");
+    expect_error("theta_i,theta_o,phi_o,weight,r\n0,0,0,1,1\n", BRDFFIT_E_PARSE, "line 1, column 4",
+                 "grid form has no weight column");
     expect_error("theta_i,phi_i,theta_o,phi_o,weight\n0,0,0,0,1\n", BRDFFIT_E_PARSE, "line 1",
                  "the weight and at least one channel");
 }

@@ -84,8 +84,8 @@ static double numeric_jacobian(const double a[4])
 
 static void test_jacobian_matches_finite_differences(void **state)
 {
-    static const double at[][4] = {{0.3, 0.0, 0.7, 0.4}, {1.2, 2.0, 0.2, 2.9}, {0.05, -1.0, 1.4, 1.0},
-                                   {0.8, 0.5, 0.9, 1.6}};
+    static const double at[][4] = {
+        {0.3, 0.0, 0.7, 0.4}, {1.2, 2.0, 0.2, 2.9}, {0.05, -1.0, 1.4, 1.0}, {0.8, 0.5, 0.9, 1.6}};
     size_t k;
     (void)state;
     for (k = 0; k < sizeof at / sizeof at[0]; k++) {
@@ -127,8 +127,8 @@ static void test_cells_partition_the_hemisphere_pairs(void **state)
     for (ih = 0; ih < 90; ih++)
         for (id = 0; id < 90; id++)
             for (ip = 0; ip < 180; ip++) sum += bf_merl_cell_measure(&m, ih, id, ip);
-    print_message("sum over all cells %.12g, (2 pi)^2 = %.12g, relative %.2g\n", sum,
-                  4 * PI * PI, sum / (4 * PI * PI) - 1);
+    print_message("sum over all cells %.12g, (2 pi)^2 = %.12g, relative %.2g\n", sum, 4 * PI * PI,
+                  sum / (4 * PI * PI) - 1);
     assert_close(sum / (4 * PI * PI), 1.0, 1e-8);
 }
 

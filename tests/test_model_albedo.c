@@ -31,8 +31,8 @@ static void expect_rel(double got, double want, double tol, const char *what, do
 {
     double rel = fabs(got / want - 1.0);
     if (!(rel <= tol)) {
-        print_error("%s at theta_i = %g deg: %.17g, expected %.17g (relative %.3g > %.3g)\n",
-                    what, ti * 180 / PI, got, want, rel, tol);
+        print_error("%s at theta_i = %g deg: %.17g, expected %.17g (relative %.3g > %.3g)\n", what,
+                    ti * 180 / PI, got, want, rel, tol);
         fail();
     }
 }

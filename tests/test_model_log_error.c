@@ -22,8 +22,7 @@ static double direct(const brdffit_model *m, const brdffit_grid *g, const double
     double *w = malloc(n * sizeof *w), *mv = malloc(n * nc * sizeof *mv), num = 0, den = 0;
     assert_non_null(w);
     assert_non_null(mv);
-    assert_int_equal(brdffit_grid_weights(g, cap, BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL),
-                     BRDFFIT_OK);
+    assert_int_equal(brdffit_grid_weights(g, cap, BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL), BRDFFIT_OK);
     assert_int_equal(brdffit_model_eval_grid(m, g, 0, n, p, mv, NULL, NULL), BRDFFIT_OK);
     for (c = 0; c < nc; c++) {
         const double *r;
@@ -97,9 +96,9 @@ static void test_by_hand(void **state)
     double d0 = log1p(0.5 * m) - log1p(0.5 * 0.5), d1 = log1p(m) - log1p(2.0), want;
     (void)state;
     assert_int_equal(brdffit_model_create(&lam, "lambert", NULL, NULL), BRDFFIT_OK);
-    assert_int_equal(brdffit_grid_create_scattered(&g, 3, ti, pi_, to, po, 2, values, miss, wgt,
-                                                   NULL, NULL),
-                     BRDFFIT_OK);
+    assert_int_equal(
+        brdffit_grid_create_scattered(&g, 3, ti, pi_, to, po, 2, values, miss, wgt, NULL, NULL),
+        BRDFFIT_OK);
     /* channel 0: only sample 0 (weight 1 of 4 within the cap) */
     assert_close(log_error(lam, g, cd, DEG(70), 0), fabs(d0), 1e-14);
     /* channel 1: samples 0 and 1, weights 1/4 and 3/4 */

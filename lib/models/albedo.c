@@ -13,10 +13,11 @@
  *              f(l, v) v_z 4 (l.h) sin(theta) d(theta) d(phi).
  *
  * phi takes the midpoint rule (exponentially accurate for a smooth
- * periodic integrand). theta takes Gauss-Legendre panels whose widths
- * halve towards theta = 0, where every lobe around the mirror direction
- * (h = n) lives, however sharp: a lobe of width w is resolved by the
- * panels of width ~w. */
+ * periodic integrand), with more nodes towards grazing light. theta takes
+ * Gauss-Legendre panels whose widths halve towards theta = 0, where every
+ * lobe around the mirror direction (h = n) lives, however sharp: a lobe of
+ * width w is resolved by the panels of width ~w. The accuracy is stated
+ * and measured in model.h and test_model_albedo. */
 #include <math.h>
 #include <string.h>
 
@@ -25,18 +26,18 @@
 #include "grid/grid_internal.h"
 #include "models/model_internal.h"
 
-#define GAUSS_POINTS 8  /* per theta panel */
-#define PANELS 25       /* theta panels: widths theta_max 2^-1 .. 2^-24, then the rest */
-#define PHI_POINTS 64   /* per quality step */
+#define GAUSS_POINTS 8   /* per theta panel */
+#define PANELS 25        /* theta panels: widths theta_max 2^-1 .. 2^-24, then the rest */
+#define PHI_POINTS 64    /* per quality step */
 #define MAX_STRETCH 16.0 /* most phi nodes per quality step: PHI_POINTS times this */
 #define MAX_QUALITY 16u
 
-/* The nodes of one phi row: theta, and the weight of the theta rule. */
+/* The rule: Gauss-Legendre nodes on [-1, 1] and the sizes. */
 typedef struct albedo_rule {
     double x[GAUSS_POINTS], w[GAUSS_POINTS];
     size_t sub;   /* sub-panels per panel (the quality) */
-    size_t n_phi; /* phi nodes */
-    size_t n_row; /* theta nodes per phi node */
+    size_t n_phi; /* phi nodes at normal incidence */
+    size_t n_row; /* most theta nodes per phi node */
 } albedo_rule;
 
 typedef struct albedo_work {
@@ -56,13 +57,13 @@ static brdffit_status check_args(const brdffit_model *m, const double *params, s
     if (quality > MAX_QUALITY)
         return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "quality %u is above %u", quality,
                        MAX_QUALITY);
-    if (n == 0 || n_channels > ((size_t)-1 / sizeof(double)) / ((PANELS + 1) * GAUSS_POINTS * MAX_QUALITY))
+    if (n == 0 ||
+        n_channels > ((size_t)-1 / sizeof(double)) / ((PANELS + 1) * GAUSS_POINTS * MAX_QUALITY))
         return bf_fail(err, BRDFFIT_E_TOO_LARGE, "%zu channels are too many", n_channels);
     for (j = 0; j < n; j++)
         if (!isfinite(params[j]))
             return bf_fail(err, BRDFFIT_E_NONFINITE,
-                           "model \"%s\": parameter vector entry %zu is %g", m->name, j,
-                           params[j]);
+                           "model \"%s\": parameter vector entry %zu is %g", m->name, j, params[j]);
     for (j = 0; j < count; j++)
         if (!(theta_i[j] >= 0.0 && theta_i[j] <= BF_HALF_PI))
             return bf_fail(err, BRDFFIT_E_RANGE, "theta_i[%zu] = %g lies outside [0, pi/2]", j,
@@ -151,8 +152,7 @@ brdffit_status brdffit_model_albedo(const brdffit_model *model, const double *pa
     if (model == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "model is NULL");
     if (!bf_model_ok(model))
         return bf_fail(err, BRDFFIT_E_BAD_HANDLE, "model handle is invalid or was destroyed");
-    BF_RETURN_IF_ERROR(
-        check_args(model, params, n_channels, theta_i, count, quality, albedo, err));
+    BF_RETURN_IF_ERROR(check_args(model, params, n_channels, theta_i, count, quality, albedo, err));
     if (count == 0) return BRDFFIT_OK;
     bf_gauss_legendre(GAUSS_POINTS, r.x, r.w);
     r.sub = quality == 0 ? 1 : quality;
@@ -167,8 +167,7 @@ brdffit_status brdffit_model_albedo(const brdffit_model *model, const double *pa
     }
     w.weights = w.values + r.n_row * n_channels;
     for (t = 0; t < count && st == BRDFFIT_OK; t++)
-        st = albedo_at(model, &r, params, n_channels, theta_i[t], &w, albedo + t * n_channels,
-                       err);
+        st = albedo_at(model, &r, params, n_channels, theta_i[t], &w, albedo + t * n_channels, err);
     bf_geometry_free(&w.geo, &model->alloc);
     bf_free(&model->alloc, w.values);
     return st;

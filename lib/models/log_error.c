@@ -25,9 +25,9 @@ static int is_missing(const brdffit_grid *g, size_t s, size_t c)
 
 /* Adds chunk [first, first + count) with weights w and model values m
  * (m[c * count + t]) to the sums. */
-static brdffit_status add_chunk(const brdffit_model *model, const brdffit_grid *g,
-                                size_t channel, size_t first, size_t count, const double *w,
-                                const double *m, log_sums *sums, brdffit_error *err)
+static brdffit_status add_chunk(const brdffit_model *model, const brdffit_grid *g, size_t channel,
+                                size_t first, size_t count, const double *w, const double *m,
+                                log_sums *sums, brdffit_error *err)
 {
     size_t t, c, nc = g->n_channels;
     for (c = 0; c < nc; c++) {
