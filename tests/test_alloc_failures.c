@@ -604,7 +604,7 @@ static void test_model_create(void **state)
 }
 
 /* Evaluation and the Jacobian check allocate through the model's allocator. */
-typedef enum eval_kind { EVAL_ANGLES, EVAL_GRID, EVAL_CHECK } eval_kind;
+typedef enum eval_kind { EVAL_ANGLES, EVAL_GRID, EVAL_CHECK, EVAL_ALBEDO, EVAL_LOG } eval_kind;
 
 #define EVAL_N 12
 typedef struct eval_ctx {
@@ -638,6 +638,11 @@ static brdffit_status eval_with(eval_ctx *k, const brdffit_model *m, double *val
     case EVAL_CHECK:
         report->struct_size = sizeof *report;
         return brdffit_model_check_jacobian(m, in->scattered, k->params, report, &k->err);
+    case EVAL_ALBEDO:
+        return brdffit_model_albedo(m, k->params, 2, in->ti, 2, 0, values, &k->err);
+    case EVAL_LOG:
+        return brdffit_model_log_error(m, in->scattered, k->params, 1.0, (size_t)-1, values,
+                                       &k->err);
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }
@@ -690,6 +695,10 @@ static void test_model_eval(void **state)
     run_eval("brdffit_model_eval_grid", &k, 0);
     k.kind = EVAL_CHECK;
     run_eval("brdffit_model_check_jacobian", &k, 1);
+    k.kind = EVAL_ALBEDO;
+    run_eval("brdffit_model_albedo", &k, 1);
+    k.kind = EVAL_LOG;
+    run_eval("brdffit_model_log_error", &k, 1);
 }
 
 /* ---- the optimizer -------------------------------------------------------------------------- */

@@ -534,6 +534,75 @@ static void test_allocation_failures(void **state)
     fx_tempdir_remove(&dir, names, 1);
 }
 
+/* ---- the weight column of the scattered form ----------------------------------------------- */
+
+#define WHDR "theta_i,phi_i,theta_o,phi_o,weight,r,g\n"
+
+static void test_weight_column(void **state)
+{
+    /* rows in descending max(theta_i, theta_o): the weights follow their
+     * samples into the stored order */
+    static const char text[] = WHDR "40,0,10,180,3,0.5,0.25\n"
+                                    "# a comment\n"
+                                    "20,0,20,180, 1.5 ,1,\n"
+                                    "5,0,0,0,0,2,3\n"
+                                    "0,0,1,0,-0,4,5\n";
+    static const double weight[4] = {0, 0, 1.5, 3}, red[4] = {4, 2, 1, 0.5};
+    brdffit_grid *g = load_ok(text);
+    double w[4];
+    const double *v;
+    size_t s;
+    (void)state;
+    assert_int_equal(brdffit_grid_channel_count(g), 2); /* the weight is no channel */
+    assert_int_equal(brdffit_grid_sample_count(g), 4);
+    assert_int_equal(brdffit_grid_missing_count(g), 1);
+    brdffit_grid_values(g, 0, &v);
+    assert_int_equal(brdffit_grid_weights(g, PI / 2, BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL),
+                     BRDFFIT_OK);
+    for (s = 0; s < 4; s++) {
+        assert_true(v[s] == red[s]);
+        assert_close(w[s], weight[s] / 4.5, 1e-15);
+    }
+    /* within a cap of 15 degrees only weight 0 samples remain */
+    assert_int_equal(brdffit_grid_weights(g, DEG(15.0), BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL),
+                     BRDFFIT_E_NO_DATA);
+    brdffit_grid_destroy(g);
+    /* without the column every sample weighs the same */
+    g = load_ok("theta_i,phi_i,theta_o,phi_o,r\n0,0,0,0,1\n10,0,10,180,1\n");
+    assert_int_equal(brdffit_grid_weights(g, PI / 2, BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL),
+                     BRDFFIT_OK);
+    assert_true(w[0] == 0.5 && w[1] == 0.5);
+    brdffit_grid_destroy(g);
+    check_oom(oom_buffer, WHDR "0,0,0,0,1,1,nan\n5,5,5,5,2,1,1\n");
+}
+
+static void test_weight_column_errors(void **state)
+{
+    (void)state;
+    expect_error(WHDR "0,0,0,0,1,1,1\n0,0,0,0,nan,1,1\n", BRDFFIT_E_PARSE,
+                 "line 3, column 5 (weight)", "missing weight 'nan'");
+    expect_error(WHDR "0,0,0,0, ,1,1\n", BRDFFIT_E_PARSE, "line 2, column 5 (weight)",
+                 "missing weight");
+    expect_error(WHDR "0,0,0,0,-1e-300,1,1\n", BRDFFIT_E_RANGE, "line 2, column 5 (weight)",
+                 "negative weight '-1e-300'");
+    expect_error(WHDR "0,0,0,0,inf,1,1\n", BRDFFIT_E_RANGE, "line 2, column 5 (weight)",
+                 "infinite weight");
+    expect_error(WHDR "0,0,0,0,1e400,1,1\n", BRDFFIT_E_RANGE, "column 5 (weight)", "infinite");
+    expect_error(WHDR "0,0,0,0,1w,1,1\n", BRDFFIT_E_PARSE, "line 2, column 5 (weight)",
+                 "malformed number '1w'");
+    /* the channels after it keep their own checks and column numbers */
+    expect_error(WHDR "0,0,0,0,1,1,inf\n", BRDFFIT_E_RANGE, "line 2, column 7 (g)",
+                 "infinite value");
+    expect_error(WHDR "0,0,0,0,1,1\n", BRDFFIT_E_PARSE, "line 2", "expected 7 columns, found 6");
+    /* where the column may stand */
+    expect_error("theta_i,phi_i,theta_o,phi_o,r,weight\n0,0,0,0,1,1\n", BRDFFIT_E_PARSE,
+                 "line 1, column 6", "must directly follow phi_o");
+    expect_error("theta_i,theta_o,phi_o,weight,r\n0,0,0,1,1\n", BRDFFIT_E_PARSE, "line 1, column 4",
+                 "grid form has no weight column");
+    expect_error("theta_i,phi_i,theta_o,phi_o,weight\n0,0,0,0,1\n", BRDFFIT_E_PARSE, "line 1",
+                 "the weight and at least one channel");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -554,6 +623,8 @@ int main(void)
         cmocka_unit_test(test_file_errors),
         cmocka_unit_test(test_null_arguments),
         cmocka_unit_test(test_allocation_failures),
+        cmocka_unit_test(test_weight_column),
+        cmocka_unit_test(test_weight_column_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -51,6 +51,14 @@ extern "C" {
  *   C locale says): a value printed with %.17g loads back unchanged.
  * - Angles: theta in [0, 90]; phi in [-360, 360] in the scattered form and
  *   phi_o in [0, 180] in the grid form.
+ * - Weights: the scattered form may have a column named "weight" right
+ *   after phi_o (theta_i,phi_i,theta_o,phi_o,weight,...). Each of its
+ *   fields must be a finite number >= 0 (never missing); they become the
+ *   samples' given weights (brdffit_grid_create_scattered(), used by
+ *   ::BRDFFIT_WEIGHT_SOLID_ANGLE), and the weight is no channel. Without
+ *   the column every sample weighs the same. A "weight" header anywhere
+ *   else, or in the grid form (whose weights follow from the axes), is an
+ *   error.
  * - Grid form: the distinct values of each angle column (compared exactly
  *   as parsed) form the axes; the rows, in any order, must hold every
  *   combination exactly once.
@@ -65,9 +73,11 @@ extern "C" {
  * @param[out] err NULL, or the detail on failure.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_IO (missing or unreadable file);
  *         ::BRDFFIT_E_PARSE (empty file, no data rows, unknown header,
- *         wrong column count, malformed number, missing angle);
- *         ::BRDFFIT_E_RANGE (infinite value, angle out of
- *         range, two axis values in degrees that coincide in radians);
+ *         wrong column count, malformed number, missing angle or weight,
+ *         a misplaced weight column);
+ *         ::BRDFFIT_E_RANGE (infinite value, negative or infinite weight,
+ *         angle out of range, two axis values in degrees that coincide in
+ *         radians);
  *         ::BRDFFIT_E_INCOMPLETE_GRID (naming one missing combination in
  *         degrees); ::BRDFFIT_E_DUPLICATE (naming the combination and both
  *         lines); ::BRDFFIT_E_TOO_LARGE (more than 2^31 values, or axes
@@ -104,10 +114,17 @@ BRDFFIT_API brdffit_status brdffit_load_csv_buffer(brdffit_grid **out, const cha
  *
  * With @p axes NULL the result is a scattered grid holding one sample per
  * MERL cell with at least one measured channel whose light and view both
- * lie above the horizon (1,096,216 for a complete file; about 128 bytes of
+ * lie above the horizon (1,096,216 for a complete file; about 136 bytes of
  * grid per sample), directions at the cell centres (theta_h = ((i + 0.5) /
  * 90)^2 pi/2, theta_d = (j + 0.5) / 90 pi/2, phi_d = (k + 0.5) / 180 pi,
- * phi_h = 0), three channels, unmeasured channels missing. With @p axes the
+ * phi_h = 0), three channels, unmeasured channels missing. Each sample's
+ * given weight (brdffit_grid_create_scattered()) is the measure, in sr^2,
+ * of its cell in light x view space: every pair of directions above the
+ * horizon whose half/difference angles lie in the cell, over all phi_h and
+ * both phi_d and phi_d + pi (docs/measure.md derives it). The weights of a
+ * complete file add up to 39.2173 sr^2, 0.66 % short of (2 pi)^2 (the
+ * cells whose centre lies below the horizon are left out); a highlight
+ * cell is about 10^-6 of a wide one. With @p axes the
  * file is resampled onto a regular grid with those axes
  * (brdffit_axes_default() for the thesis's layout): each grid sample (light
  * at azimuth pi) takes the value of the MERL cell holding its

@@ -362,6 +362,116 @@ BRDFFIT_API brdffit_status brdffit_model_check_jacobian(const brdffit_model *mod
                                                         brdffit_jacobian_report *report,
                                                         brdffit_error *err);
 
+/**
+ * @brief Directional albedo: for each incidence angle, the fraction of the
+ *        light the model reflects, the integral over the view hemisphere of
+ *        f(l, v) cos(theta_o) d(omega_o), per channel.
+ *
+ * The light lies at (theta_i[t], phi = pi), as in a regular grid. The
+ * integral is taken in the half vector h (v = 2 (l.h) h - l,
+ * d(omega_o) = 4 (l.h) d(omega_h)) over exactly the h whose view lies
+ * above the horizon, where the integrand is smooth for a smooth model: in
+ * the azimuth of h a midpoint rule of 64 q s points, s = ceil(1 /
+ * cos(theta_i)) up to 16 (a lobe around the mirror direction is s times
+ * longer across the plane of incidence in h than along it); in the polar
+ * angle of h 25 panels whose widths halve towards h = n (down to 2^-24 of
+ * the range, so lobes of any width around the mirror direction are
+ * resolved), split where n.v = n.l (the kink of max(n.l, n.v)), each in q
+ * parts of 8 Gauss-Legendre points; q = @p quality. That is about
+ * 13,300 q^2 s model evaluations per angle, in blocks of up to 208 q
+ * samples; the result is deterministic. The model's own clamping (n.l,
+ * n.v >= 1e-4, model.h) applies as in a fit; cos(theta_o) is exact.
+ *
+ * Accuracy at the default quality, measured against closed forms
+ * (test_model_albedo) and against quality 4 for every built-in model with
+ * exponents 1 .. 10^6 and roughness 10^-4 .. 1:
+ * - a Lambertian term: exact to 1e-14 at every angle;
+ * - cosine-power lobes (phong with ns >= 10, blinn-phong,
+ *   ashikhmin-shirley) and near-mirror microfacet and Ward lobes
+ *   (roughness <= 1e-3): within 1e-6 relative up to theta_i = 88 degrees
+ *   (the closed forms of the test, to 1e-10, exponents up to 10^6);
+ * - broad lobes that are not smooth at the horizon (ward, ggx with
+ *   roughness near 1: the floor of n.v): within 4e-5 up to 88 degrees;
+ * - models with a kink inside the hemisphere (cook-torrance's min() in its
+ *   shadowing, phong with ns near 1): within 2e-3;
+ * - beyond 88 degrees about 1e-3, and much worse at theta_i = pi/2 itself
+ *   for the sharpest lobes.
+ * Lobes far from the mirror direction (lafortune with cz < 1 leans towards
+ * grazing) are resolved only as finely as the rule is there: compare with
+ * a higher @p quality.
+ *
+ * @param model      The model.
+ * @param params     brdffit_model_vector_size() values for @p n_channels
+ *                   (borrowed for the call).
+ * @param n_channels Number of channels, 1 or more.
+ * @param theta_i    @p count incidence angles in [0, pi/2], radians.
+ * @param count      Number of angles; 0 does nothing.
+ * @param quality    0 or 1 for the default rule, up to 16 for finer ones.
+ * @param[out] albedo count * n_channels values: channel c at angle t goes
+ *                   to albedo[t * n_channels + c]. Unspecified on failure.
+ * @param[out] err   NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (NULL model, params,
+ *         theta_i or albedo, n_channels = 0, quality above 16);
+ *         ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_RANGE for an angle outside
+ *         [0, pi/2] or NaN (naming its index); ::BRDFFIT_E_NONFINITE for a
+ *         parameter that is NaN or infinite, or a model that produced
+ *         NaN or Inf; ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_TOO_LARGE;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY (two blocks, (n_channels + 13) x 208 q
+ *         doubles in all, through the model's allocator, freed before
+ *         returning).
+ * @note Thread-safe, provided the model's evaluation callback is.
+ */
+BRDFFIT_API brdffit_status brdffit_model_albedo(const brdffit_model *model,
+                                                const double *params, size_t n_channels,
+                                                const double *theta_i, size_t count,
+                                                unsigned quality, double *albedo,
+                                                brdffit_error *err);
+
+/**
+ * @brief The look error: the compressive log error of a model against a
+ *        grid's measured values over every sample within a cap.
+ *
+ *     E = sqrt(sum a_s d_sc^2 / sum a_s),
+ *     d_sc = ln(1 + cos(theta_i) M_c(s)) - ln(1 + cos(theta_i) R_c(s)),
+ *
+ * M the model with @p params, R the grid's value, theta_i the light's
+ * polar angle of sample s (its cosine taken as 0 below the horizon), a_s
+ * the sample's ::BRDFFIT_WEIGHT_SOLID_ANGLE weight of
+ * brdffit_grid_weights() (the solid angle of its view cell, or its given
+ * weight, normalised within the cap), both sums over the samples within
+ * the cap and the present (not missing) values of the channels asked for.
+ * The logarithm compresses the highlight, so E says how well the model
+ * looks like the measurement everywhere, not only at the peak; it does
+ * not depend on how the parameters were found. E = 0 exactly when the
+ * model matches every value used.
+ *
+ * @param model    The model.
+ * @param grid     The measurement; its channel count is the model's.
+ * @param params   brdffit_model_vector_size() values for the grid's
+ *                 channels.
+ * @param cap      Angle cap in radians, 0 .. pi/2 (grid.h).
+ * @param channel  A channel index, or (size_t)-1 (::BRDFFIT_ALL_CHANNELS
+ *                 of fit.h) for every channel together.
+ * @param[out] out Receives E; untouched on failure.
+ * @param[out] err NULL, or the detail on failure.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT (NULL arguments, a
+ *         cap out of range, a channel out of range);
+ *         ::BRDFFIT_E_BAD_HANDLE; ::BRDFFIT_E_NO_DATA when no sample lies
+ *         within the cap or the weights of the present values there sum
+ *         to 0; ::BRDFFIT_E_RANGE when the model is negative at a sample
+ *         used (naming it); ::BRDFFIT_E_NONFINITE, ::BRDFFIT_E_MODEL_FAILED
+ *         as brdffit_model_eval_grid(); ::BRDFFIT_E_OUT_OF_MEMORY (one
+ *         block of 64 values per channel, and for a regular grid a few
+ *         per-axis values, through the model's allocator).
+ * @note One pass over the samples within the cap. Thread-safe, provided
+ *       the model's evaluation callback is.
+ */
+BRDFFIT_API brdffit_status brdffit_model_log_error(const brdffit_model *model,
+                                                   const brdffit_grid *grid,
+                                                   const double *params, double cap,
+                                                   size_t channel, double *out,
+                                                   brdffit_error *err);
+
 #ifdef __cplusplus
 }
 #endif

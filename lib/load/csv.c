@@ -34,7 +34,8 @@ static brdffit_status build_scattered(brdffit_grid **out, csv_data *d, const csv
     }
     return brdffit_grid_create_scattered(out, n, d->angles, d->angles + n, d->angles + 2 * n,
                                          d->angles + 3 * n, lay->n_channels, d->values,
-                                         d->n_missing > 0 ? d->missing : NULL, NULL, a, err);
+                                         d->n_missing > 0 ? d->missing : NULL, d->weights, a,
+                                         err);
 }
 
 /* ---- the grid form ------------------------------------------------------------- */

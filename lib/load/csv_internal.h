@@ -7,6 +7,7 @@
 
 typedef struct csv_layout {
     int scattered;
+    int weight; /* scattered form: column 5 holds each sample's weight */
     size_t n_angles, n_channels, n_fields;
     bf_line header;
 } csv_layout;
@@ -17,6 +18,7 @@ typedef struct csv_data {
     double *values;         /* [r * n_channels + c] */
     unsigned char *missing; /* [r * n_channels + c] */
     size_t *lines;          /* line of row r */
+    double *weights;        /* row weights, or NULL without a weight column */
     size_t n_missing;
 } csv_data;
 

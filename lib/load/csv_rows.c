@@ -58,6 +58,31 @@ static void column_name(const csv_layout *lay, size_t col, char *buf, size_t siz
     bf_excerpt(buf, size, p, len);
 }
 
+/* The optional weight column: a header field "weight", allowed only in
+ * the scattered form and only right after phi_o. */
+static brdffit_status find_weight_column(const bf_line *l, csv_layout *lay, brdffit_error *err)
+{
+    size_t pos = 0, k, len;
+    const char *p;
+    for (k = 0; k < lay->n_fields; k++) {
+        next_field(l, &pos, &p, &len);
+        bf_trim(&p, &len);
+        if (!field_is(p, len, "weight")) continue;
+        if (!lay->scattered)
+            return bf_fail(err, BRDFFIT_E_PARSE,
+                           "line %zu, column %zu: the grid form has no weight column (its "
+                           "weights follow from the axes)",
+                           l->number, k + 1);
+        if (k != 4)
+            return bf_fail(err, BRDFFIT_E_PARSE,
+                           "line %zu, column %zu: the weight column must directly follow phi_o "
+                           "(column 5)",
+                           l->number, k + 1);
+        lay->weight = 1;
+    }
+    return BRDFFIT_OK;
+}
+
 static brdffit_status parse_header(const bf_line *l, csv_layout *lay, brdffit_error *err)
 {
     const char *const *names;
@@ -87,11 +112,12 @@ static brdffit_status parse_header(const bf_line *l, csv_layout *lay, brdffit_er
             return bf_fail(err, BRDFFIT_E_PARSE, "line %zu, column %zu: empty channel name",
                            l->number, k + 1);
     }
-    if (lay->n_fields <= lay->n_angles)
+    BF_RETURN_IF_ERROR(find_weight_column(l, lay, err));
+    if (lay->n_fields <= lay->n_angles + (size_t)lay->weight)
         return bf_fail(err, BRDFFIT_E_PARSE,
-                       "line %zu: header needs %zu angle columns and at least one channel",
-                       l->number, lay->n_angles);
-    lay->n_channels = lay->n_fields - lay->n_angles;
+                       "line %zu: header needs %zu angle columns%s and at least one channel",
+                       l->number, lay->n_angles, lay->weight ? ", the weight" : "");
+    lay->n_channels = lay->n_fields - lay->n_angles - (size_t)lay->weight;
     return BRDFFIT_OK;
 }
 
@@ -149,6 +175,22 @@ static brdffit_status parse_value(const csv_layout *lay, const bf_line *l, size_
     return BRDFFIT_OK;
 }
 
+/* A sample weight: a finite number >= 0, never missing. */
+static brdffit_status parse_weight(const csv_layout *lay, const bf_line *l, const char *p,
+                                   size_t len, double *out, brdffit_error *err)
+{
+    bf_number_kind kind = bf_parse_number(p, len, out);
+    if (kind == BF_NUMBER_EMPTY || kind == BF_NUMBER_NAN)
+        return number_error(lay, l, 4, BRDFFIT_E_PARSE, "missing weight", p, len, err);
+    if (kind == BF_NUMBER_MALFORMED)
+        return number_error(lay, l, 4, BRDFFIT_E_PARSE, "malformed number", p, len, err);
+    if (kind == BF_NUMBER_INF)
+        return number_error(lay, l, 4, BRDFFIT_E_RANGE, "infinite weight", p, len, err);
+    if (*out < 0.0) return number_error(lay, l, 4, BRDFFIT_E_RANGE, "negative weight", p, len, err);
+    *out += 0.0;
+    return BRDFFIT_OK;
+}
+
 static brdffit_status parse_row(const csv_layout *lay, const bf_line *l, size_t r, csv_data *d,
                                 brdffit_error *err)
 {
@@ -162,11 +204,15 @@ static brdffit_status parse_row(const csv_layout *lay, const bf_line *l, size_t 
         next_field(l, &pos, &p, &len);
         BF_RETURN_IF_ERROR(parse_angle(lay, l, k, p, len, &d->angles[k * d->n_rows + r], err));
     }
+    if (lay->weight) {
+        next_field(l, &pos, &p, &len);
+        BF_RETURN_IF_ERROR(parse_weight(lay, l, p, len, &d->weights[r], err));
+    }
     for (k = 0; k < nc; k++) {
         size_t v = r * nc + k;
         next_field(l, &pos, &p, &len);
-        BF_RETURN_IF_ERROR(
-            parse_value(lay, l, lay->n_angles + k, p, len, &d->values[v], &d->missing[v], err));
+        BF_RETURN_IF_ERROR(parse_value(lay, l, lay->n_fields - nc + k, p, len, &d->values[v],
+                                       &d->missing[v], err));
         d->n_missing += d->missing[v];
     }
     d->lines[r] = l->number;
@@ -179,6 +225,7 @@ void bf_csv_data_free(csv_data *d, const brdffit_allocator *a)
     bf_free(a, d->values);
     bf_free(a, d->missing);
     bf_free(a, d->lines);
+    bf_free(a, d->weights);
     memset(d, 0, sizeof *d);
 }
 
@@ -202,7 +249,9 @@ static brdffit_status data_alloc(csv_data *d, const csv_layout *lay, size_t n_ro
     d->values = bf_calloc(a, n_values, sizeof(double));
     d->missing = bf_calloc(a, n_values, 1);
     d->lines = bf_calloc(a, n_rows, sizeof(size_t));
-    if (d->angles == NULL || d->values == NULL || d->missing == NULL || d->lines == NULL) {
+    if (lay->weight) d->weights = bf_calloc(a, n_rows, sizeof(double));
+    if (d->angles == NULL || d->values == NULL || d->missing == NULL || d->lines == NULL ||
+        (lay->weight && d->weights == NULL)) {
         bf_csv_data_free(d, a);
         return bf_csv_oom(err);
     }

@@ -13,6 +13,7 @@
 #include "brdffit/load.h"
 #include "core/core.h"
 #include "load/load_internal.h"
+#include "load/merl_measure.h"
 
 #define MERL_TH 90
 #define MERL_TD 90
@@ -196,6 +197,7 @@ typedef struct merl_arrays {
     double *angles; /* 4 n: theta_i, phi_i, theta_o, phi_o */
     double *values; /* 3 n, interleaved */
     unsigned char *missing;
+    double *weights; /* scattered: n cell measures (sr^2) */
 } merl_arrays;
 
 static void arrays_free(merl_arrays *m, const brdffit_allocator *a)
@@ -203,6 +205,7 @@ static void arrays_free(merl_arrays *m, const brdffit_allocator *a)
     bf_free(a, m->angles);
     bf_free(a, m->values);
     bf_free(a, m->missing);
+    bf_free(a, m->weights);
 }
 
 static brdffit_status arrays_alloc(merl_arrays *m, size_t n, const brdffit_allocator *a,
@@ -211,7 +214,8 @@ static brdffit_status arrays_alloc(merl_arrays *m, size_t n, const brdffit_alloc
     m->angles = bf_calloc(a, n, 4 * sizeof(double));
     m->values = bf_calloc(a, n, 3 * sizeof(double));
     m->missing = bf_calloc(a, n, 3);
-    if (m->angles != NULL && m->values != NULL && m->missing != NULL) return BRDFFIT_OK;
+    m->weights = bf_calloc(a, n, sizeof(double));
+    if (m->angles && m->values && m->missing && m->weights) return BRDFFIT_OK;
     arrays_free(m, a);
     return bf_fail(err, BRDFFIT_E_OUT_OF_MEMORY, "out of memory while loading MERL data");
 }
@@ -225,8 +229,8 @@ static int cell_measured(const unsigned char *data, size_t cell)
 }
 
 /* Store the measured cell as sample s (s < n) if it lies above the horizon. */
-static int keep_cell(const unsigned char *data, const merl_trig *t, size_t cell, merl_arrays *m,
-                     size_t n, size_t s)
+static int keep_cell(const unsigned char *data, const merl_trig *t, const bf_merl_measure *mu,
+                     size_t cell, merl_arrays *m, size_t n, size_t s)
 {
     size_t ih, id, ip, c;
     double l[3], v[3];
@@ -241,6 +245,7 @@ static int keep_cell(const unsigned char *data, const merl_trig *t, size_t cell,
     m->angles[n + s] = atan2(l[1], l[0]);
     m->angles[2 * n + s] = polar_of(v[0], v[1], v[2]);
     m->angles[3 * n + s] = atan2(v[1], v[0]);
+    m->weights[s] = bf_merl_cell_measure(mu, ih, id, ip);
     return 1;
 }
 
@@ -248,13 +253,15 @@ static brdffit_status load_scattered(brdffit_grid **out, const unsigned char *da
                                      size_t n_measured, const brdffit_allocator *a,
                                      brdffit_error *err)
 {
-    merl_arrays m = {NULL, NULL, NULL};
+    merl_arrays m = {NULL, NULL, NULL, NULL};
     merl_trig t;
+    bf_merl_measure mu;
     size_t cell, s = 0, n = n_measured;
     brdffit_status st;
     BF_RETURN_IF_ERROR(arrays_alloc(&m, n, a, err));
     trig_init(&t);
-    for (cell = 0; cell < MERL_CELLS; cell++) s += (size_t)keep_cell(data, &t, cell, &m, n, s);
+    bf_merl_measure_init(&mu);
+    for (cell = 0; cell < MERL_CELLS; cell++) s += (size_t)keep_cell(data, &t, &mu, cell, &m, n, s);
     if (s == 0) {
         arrays_free(&m, a);
         return bf_fail(err, BRDFFIT_E_NO_DATA,
@@ -262,7 +269,7 @@ static brdffit_status load_scattered(brdffit_grid **out, const unsigned char *da
     }
     /* the angle blocks are laid out for n samples; s <= n are used */
     st = brdffit_grid_create_scattered(out, s, m.angles, m.angles + n, m.angles + 2 * n,
-                                       m.angles + 3 * n, 3, m.values, m.missing, NULL, a, err);
+                                       m.angles + 3 * n, 3, m.values, m.missing, m.weights, a, err);
     arrays_free(&m, a);
     return st;
 }
@@ -312,7 +319,7 @@ static brdffit_status load_regular(brdffit_grid **out, const unsigned char *data
                                    const brdffit_axes *axes, const brdffit_allocator *a,
                                    brdffit_error *err)
 {
-    merl_arrays m = {NULL, NULL, NULL};
+    merl_arrays m = {NULL, NULL, NULL, NULL};
     size_t n = 0;
     brdffit_status st;
     BF_RETURN_IF_ERROR(check_axes(axes, &n, err));

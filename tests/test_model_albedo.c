@@ -1,0 +1,243 @@
+/* Directional albedo (brdffit_model_albedo()): against closed forms that
+ * do not share the library's quadrature (Lambert, the normalised Phong
+ * lobe, the Blinn-Phong lobe at normal incidence, sharp lobes at oblique
+ * incidence, a near-mirror GGX lobe), the quality setting, and every bad
+ * input with its status. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "test_support.h"
+
+#define PI 3.14159265358979323846
+
+static brdffit_model *make(const char *name)
+{
+    brdffit_model *m = NULL;
+    assert_int_equal(brdffit_model_create(&m, name, NULL, NULL), BRDFFIT_OK);
+    return m;
+}
+
+static void albedo_ok(const brdffit_model *m, const double *p, size_t nc, const double *ti,
+                      size_t count, unsigned quality, double *out)
+{
+    brdffit_error err;
+    brdffit_status st = brdffit_model_albedo(m, p, nc, ti, count, quality, out, &err);
+    if (st != BRDFFIT_OK) print_error("%s: %s\n", brdffit_status_name(st), err.message);
+    assert_int_equal(st, BRDFFIT_OK);
+}
+
+static void expect_rel(double got, double want, double tol, const char *what, double ti)
+{
+    double rel = fabs(got / want - 1.0);
+    if (!(rel <= tol)) {
+        print_error("%s at theta_i = %g deg: %.17g, expected %.17g (relative %.3g > %.3g)\n", what,
+                    ti * 180 / PI, got, want, rel, tol);
+        fail();
+    }
+}
+
+/* cd / pi reflects cd at every incidence angle, grazing included. */
+static void test_lambert_is_exact(void **state)
+{
+    static const double deg[] = {0, 10, 30, 45, 60, 75, 85, 88, 89.5, 90};
+    const double cd[3] = {0.2, 0.5, 0.9};
+    double ti[10], out[30];
+    size_t k, c;
+    brdffit_model *m = make("lambert");
+    (void)state;
+    for (k = 0; k < 10; k++) ti[k] = DEG(deg[k]);
+    albedo_ok(m, cd, 3, ti, 10, 0, out);
+    for (k = 0; k < 10; k++)
+        for (c = 0; c < 3; c++) expect_rel(out[k * 3 + c], cd[c], 1e-12, "lambert", ti[k]);
+    brdffit_model_destroy(m);
+}
+
+/* The normalised Phong lobe (ns + 2) / (2 pi) cos^ns at normal incidence
+ * reflects exactly cs, however sharp. At oblique incidence a lobe so sharp
+ * that none of it reaches the horizon reflects cs cos(theta_i) (the
+ * integral of cos^ns(alpha) v_z around r, v_z averaging cos(alpha)
+ * cos(theta_i) over the circle). */
+static void test_phong_closed_forms(void **state)
+{
+    static const double ns[] = {1, 10, 1e4, 1e6};
+    static const struct {
+        double ns, deg;
+    } oblique[] = {{1e4, 30}, {1e4, 60}, {1e4, 80}, {1e6, 45}, {1e6, 85}};
+    brdffit_model *m = make("phong");
+    double p[3], ti, out;
+    size_t k;
+    (void)state;
+    for (k = 0; k < 4; k++) {
+        p[0] = ns[k], p[1] = 0.25, p[2] = 0.5, ti = 0.0;
+        albedo_ok(m, p, 1, &ti, 1, 0, &out);
+        expect_rel(out, 0.75, 1e-9, "phong at normal incidence", ti);
+    }
+    for (k = 0; k < sizeof oblique / sizeof oblique[0]; k++) {
+        p[0] = oblique[k].ns, p[1] = 0.0, p[2] = 1.0, ti = DEG(oblique[k].deg);
+        albedo_ok(m, p, 1, &ti, 1, 0, &out);
+        expect_rel(out, cos(ti), 1e-9, "sharp phong", ti);
+    }
+    brdffit_model_destroy(m);
+}
+
+/* Blinn-Phong at normal incidence: with c = cos(theta_h), v_z = 2c^2 - 1
+ * and d(omega_o) = 4 c d(omega_h), the albedo of (ns + 8) / (8 pi) c^ns is
+ * (ns + 8) times the integral from 1/sqrt(2) to 1 of c^(ns+1) (2c^2 - 1)
+ * dc. */
+static double blinn_normal(double ns)
+{
+    double a = 2.0 * (1.0 - pow(2.0, -(ns + 4) / 2)) / (ns + 4);
+    double b = (1.0 - pow(2.0, -(ns + 2) / 2)) / (ns + 2);
+    return (ns + 8) * (a - b);
+}
+
+static void test_blinn_phong_normal_incidence(void **state)
+{
+    static const double ns[] = {1, 30, 1e3, 1e4, 1e6};
+    brdffit_model *m = make("blinn-phong");
+    double p[3], ti = 0.0, out;
+    size_t k;
+    (void)state;
+    for (k = 0; k < 5; k++) {
+        p[0] = ns[k], p[1] = 0.0, p[2] = 1.0;
+        albedo_ok(m, p, 1, &ti, 1, 0, &out);
+        print_message("blinn-phong ns %g: %.15g, closed form %.15g\n", ns[k], out,
+                      blinn_normal(ns[k]));
+        expect_rel(out, blinn_normal(ns[k]), 1e-9, "blinn-phong", ti);
+    }
+    brdffit_model_destroy(m);
+}
+
+/* GGX with roughness a = 1e-4 is nearly a mirror: D integrates to 1 over
+ * the half vectors, and the shadowing and the spread of l.h across the
+ * lobe change the albedo by O(a^2 tan^2(theta_i)) (1.4e-7 at 75 degrees),
+ * so the lobe reflects F(F0, cos(theta_i)) cs (Schlick's Fresnel term). */
+static void test_near_mirror_ggx(void **state)
+{
+    static const double deg[] = {0, 30, 45, 60, 75};
+    brdffit_model *m = make("ggx");
+    double p[4] = {1e-4, 0.04, 0.1, 2.0}, ti[5], out[5];
+    size_t k;
+    (void)state;
+    for (k = 0; k < 5; k++) ti[k] = DEG(deg[k]);
+    albedo_ok(m, p, 1, ti, 5, 0, out);
+    for (k = 0; k < 5; k++) {
+        double f = 0.04 + 0.96 * pow(1.0 - cos(ti[k]), 5.0);
+        expect_rel(out[k], 0.1 + 2.0 * f, 1e-6, "ggx", ti[k]);
+    }
+    brdffit_model_destroy(m);
+}
+
+/* A finer rule changes a smooth model's albedo by less than the stated
+ * bound, and the two channels of a model are independent. */
+static void test_quality(void **state)
+{
+    static const double deg[] = {0, 40, 70, 85};
+    brdffit_model *m = make("ashikhmin-shirley");
+    double p[5] = {300.0, 0.1, 0.4, 0.6, 0.2}, ti[4], a1[8], a3[8], one[4];
+    size_t k;
+    (void)state;
+    for (k = 0; k < 4; k++) ti[k] = DEG(deg[k]);
+    albedo_ok(m, p, 2, ti, 4, 0, a1);
+    albedo_ok(m, p, 2, ti, 4, 3, a3);
+    for (k = 0; k < 8; k++) expect_rel(a1[k], a3[k], 1e-6, "quality 1 against 3", ti[k / 2]);
+    {
+        double q[3] = {300.0, 0.1, 0.6}; /* channel 0 alone */
+        albedo_ok(m, q, 1, ti, 4, 0, one);
+    }
+    for (k = 0; k < 4; k++) assert_true(one[k] == a1[2 * k]);
+    brdffit_model_destroy(m);
+}
+
+static brdffit_status failing_eval(const brdffit_batch *b, const double *p, size_t nc, double *v,
+                                   double *j, void *user)
+{
+    (void)b, (void)p, (void)nc, (void)v, (void)j, (void)user;
+    return BRDFFIT_E_RANGE;
+}
+
+static brdffit_status nan_eval(const brdffit_batch *b, const double *p, size_t nc, double *v,
+                               double *j, void *user)
+{
+    size_t s;
+    (void)p, (void)j, (void)user;
+    for (s = 0; s < b->n * nc; s++) v[s] = s == 7 ? NAN : 1.0;
+    return BRDFFIT_OK;
+}
+
+static brdffit_model *custom(brdffit_model_eval_fn fn)
+{
+    static const brdffit_param_info info = {"k", BRDFFIT_PARAM_PER_CHANNEL, 0.0, 1.0, 0.5};
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *m = NULL;
+    def.name = "custom";
+    def.n_params = 1;
+    def.params = &info;
+    def.eval = fn;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    return m;
+}
+
+static void expect_status(const brdffit_model *m, const double *p, size_t nc, const double *ti,
+                          size_t count, unsigned quality, double *out, brdffit_status want,
+                          const char *fragment)
+{
+    brdffit_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(brdffit_model_albedo(m, p, nc, ti, count, quality, out, &err), want);
+    assert_int_equal(err.status, want);
+    if (fragment != NULL && strstr(err.message, fragment) == NULL) {
+        print_error("message '%s' lacks '%s'\n", err.message, fragment);
+        fail();
+    }
+}
+
+static void test_bad_input(void **state)
+{
+    static const uint64_t foreign[16] = {0x1234567812345678u}; /* not a model */
+    const brdffit_model *other = (const brdffit_model *)(const void *)foreign;
+    brdffit_model *m = make("lambert");
+    brdffit_model *fails = custom(failing_eval), *nan = custom(nan_eval);
+    double cd = 0.5, ti[2] = {0.1, 0.2}, out[2] = {0, 0}, bad;
+    const brdffit_status inv = BRDFFIT_E_INVALID_ARGUMENT;
+    (void)state;
+    expect_status(NULL, &cd, 1, ti, 2, 0, out, inv, "model is NULL");
+    expect_status(other, &cd, 1, ti, 2, 0, out, BRDFFIT_E_BAD_HANDLE, NULL);
+    expect_status(m, NULL, 1, ti, 2, 0, out, inv, "NULL");
+    expect_status(m, &cd, 1, NULL, 2, 0, out, inv, "NULL");
+    expect_status(m, &cd, 1, ti, 2, 0, NULL, inv, "NULL");
+    expect_status(m, &cd, 0, ti, 2, 0, out, inv, "n_channels");
+    expect_status(m, &cd, 1, ti, 2, 17, out, inv, "quality 17");
+    ti[1] = -1e-9;
+    expect_status(m, &cd, 1, ti, 2, 0, out, BRDFFIT_E_RANGE, "theta_i[1]");
+    ti[1] = PI / 2 + 1e-9;
+    expect_status(m, &cd, 1, ti, 2, 0, out, BRDFFIT_E_RANGE, "theta_i[1]");
+    ti[1] = NAN;
+    expect_status(m, &cd, 1, ti, 2, 0, out, BRDFFIT_E_RANGE, "theta_i[1]");
+    ti[1] = 0.2;
+    bad = INFINITY;
+    expect_status(m, &bad, 1, ti, 2, 0, out, BRDFFIT_E_NONFINITE, "entry 0");
+    expect_status(fails, &cd, 1, ti, 2, 0, out, BRDFFIT_E_MODEL_FAILED, "custom");
+    expect_status(nan, &cd, 1, ti, 2, 0, out, BRDFFIT_E_NONFINITE, "non-finite value");
+    /* count 0 does nothing */
+    out[0] = 7.0;
+    expect_status(m, &cd, 1, ti, 0, 0, out, BRDFFIT_OK, NULL);
+    assert_true(out[0] == 7.0);
+    brdffit_model_destroy(m);
+    brdffit_model_destroy(fails);
+    brdffit_model_destroy(nan);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_lambert_is_exact),
+        cmocka_unit_test(test_phong_closed_forms),
+        cmocka_unit_test(test_blinn_phong_normal_incidence),
+        cmocka_unit_test(test_near_mirror_ggx),
+        cmocka_unit_test(test_quality),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
