@@ -112,6 +112,7 @@ static void test_builtin_names(void **state)
         "ward",
         "ward-duer",
         "lafortune",
+        "gltf",
     };
     const size_t n = sizeof expected / sizeof expected[0];
     size_t i, j;
@@ -164,6 +165,7 @@ static void test_builtin_metadata(void **state)
     for (i = 0; i < brdffit_model_builtin_count(); i++) {
         brdffit_model *m = NULL;
         int seen_linear = 0;
+        if (strcmp(brdffit_model_builtin_name(i), "gltf") == 0) continue; /* test_gltf_metadata */
         assert_int_equal(brdffit_model_create(&m, brdffit_model_builtin_name(i), NULL, NULL),
                          BRDFFIT_OK);
         for (k = 0; k < brdffit_model_param_count(m); k++) {
@@ -200,6 +202,36 @@ static void test_builtin_metadata(void **state)
         assert_null(brdffit_model_param(m, brdffit_model_param_count(m)));
         brdffit_model_destroy(m);
     }
+}
+
+/* The glTF model: glTF's own names and ranges (roughness floored at 0.01,
+ * alpha = 1e-4), shapes first, the colour per channel but not LINEAR (the
+ * model is affine in it, docs/models.md), nothing fixed. */
+static void test_gltf_metadata(void **state)
+{
+    static const struct {
+        const char *name;
+        unsigned flags;
+        double lower, upper, start;
+    } want[] = {
+        {"roughness", BRDFFIT_PARAM_LOG_SCALE, 0.01, 1.0, 0.5},
+        {"metallic", 0, 0.0, 1.0, 0.5},
+        {"baseColor", BRDFFIT_PARAM_PER_CHANNEL, 0.0, 1.0, 0.5},
+    };
+    brdffit_model *m = NULL;
+    size_t k;
+    (void)state;
+    assert_int_equal(brdffit_model_create(&m, "gltf", NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_model_param_count(m), 3);
+    for (k = 0; k < 3; k++) {
+        const brdffit_param_info *p = brdffit_model_param(m, k);
+        assert_string_equal(p->name, want[k].name);
+        assert_int_equal(p->flags, want[k].flags);
+        assert_true(p->lower == want[k].lower && p->upper == want[k].upper);
+        assert_true(p->start == want[k].start);
+    }
+    assert_int_equal(brdffit_model_vector_size(m, 3), 5);
+    brdffit_model_destroy(m);
 }
 
 static void test_param_find(void **state)
@@ -938,6 +970,7 @@ int main(void)
         cmocka_unit_test(test_builtin_names),
         cmocka_unit_test(test_create_errors),
         cmocka_unit_test(test_builtin_metadata),
+        cmocka_unit_test(test_gltf_metadata),
         cmocka_unit_test(test_param_find),
         cmocka_unit_test(test_vector_layout_builtin),
         cmocka_unit_test(test_vector_layout_user),

@@ -19,6 +19,7 @@ static const bf_builtin *const builtins[] = {
     &bf_builtin_ward,
     &bf_builtin_ward_duer,
     &bf_builtin_lafortune,
+    &bf_builtin_gltf,
 };
 
 enum { BF_N_BUILTINS = sizeof builtins / sizeof builtins[0] };
