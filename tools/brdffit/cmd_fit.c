@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "export_gltf.h"
 #include "fit_result.h"
 
 #define PI 3.14159265358979323846
@@ -32,12 +33,14 @@ static const char fit_help[] =
     "                        must contain %s, replaced by each file's base name\n"
     "  --gain G              brightness of the preview textures; default 3\n"
     "  --gamma G             gamma of the preview pictures; default 2.2\n"
+    "  --gltf OUT.gltf       write the fitted material on a sphere as a glTF 2.0\n"
+    "                        asset (needs --model gltf; %s as for --preview)\n"
     "\n"
     "Exit status: 0 when every file was fitted, 1 when some failed, 2 for usage\n"
     "errors.\n";
 
 typedef struct fit_opts {
-    const char *model_name, *start_text, *csv_path, *preview;
+    const char *model_name, *start_text, *csv_path, *preview, *gltf;
     brdffit_pipeline pipeline;
     double cap, clearcoat, gain, gamma;
     unsigned weighting;
@@ -176,6 +179,20 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
     free(name);
 }
 
+static void write_gltf(const fit_run *run, fit_result *r)
+{
+    char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300], base[128];
+    char *name = preview_name(run->opts->gltf, r->path);
+    cli_base_name(r->path, base, sizeof base);
+    if (name == NULL)
+        fail(r, BRDFFIT_E_OUT_OF_MEMORY, "glTF: out of memory");
+    else if (cli_gltf_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg)) {
+        cli_format(full, sizeof full, "glTF %s: %s", name, msg);
+        fail(r, BRDFFIT_E_IO, full);
+    }
+    free(name);
+}
+
 static void fit_one(const fit_run *run, fit_result *r)
 {
     brdffit_grid *grid = NULL;
@@ -202,6 +219,7 @@ static void fit_one(const fit_run *run, fit_result *r)
             fail(r, st, brdffit_fit_message(fit));
         else if (collect(fit, r) == 0 && run->opts->preview != NULL)
             write_preview(fit, grid, run, r);
+        if (r->fitted && run->opts->gltf != NULL) write_gltf(run, r);
     }
     brdffit_fit_destroy(fit);
     brdffit_grid_destroy(grid);
@@ -346,6 +364,8 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->csv_path = value;
     else if (strcmp(name, "preview") == 0)
         o->preview = value;
+    else if (strcmp(name, "gltf") == 0)
+        o->gltf = value;
     else if (strcmp(name, "pipeline") == 0) {
         if (!parse_pipeline(value, &o->pipeline))
             return cli_usage_error("fit", "--pipeline is auto, joint or two-stage");
@@ -394,7 +414,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1},
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
-                                         {NULL, 0}};
+                                         {"gltf", 1},      {NULL, 0}};
     cli_args a;
     const char *name, *value;
     int r, n_files = 0;
@@ -417,6 +437,13 @@ static int check_options(const fit_opts *o, int n_files)
                                       "libpng");
     if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
         return cli_usage_error("fit", "--preview with several files needs %%s in its name");
+    if (o->gltf != NULL && strcmp(o->model_name, CLI_GLTF_MODEL) != 0)
+        return cli_usage_error("fit",
+                               "--gltf exports the glTF BRDF itself: fit with --model %s "
+                               "(\"%s\" is not the glTF BRDF, and brdffit does not convert it)",
+                               CLI_GLTF_MODEL, o->model_name);
+    if (o->gltf != NULL && n_files > 1 && strstr(o->gltf, "%s") == NULL)
+        return cli_usage_error("fit", "--gltf with several files needs %%s in its name");
     return 0;
 }
 

@@ -1,0 +1,20 @@
+/* brdffit fit --gltf: the fitted glTF material as a glTF 2.0 asset. */
+#ifndef BRDFFIT_CLI_EXPORT_GLTF_H
+#define BRDFFIT_CLI_EXPORT_GLTF_H
+
+#include "cli.h"
+
+/* The model whose fits can be exported: the glTF BRDF itself. */
+#define CLI_GLTF_MODEL "gltf"
+
+/* Write `path` (atomically) as a glTF 2.0 JSON asset with an embedded
+ * base64 buffer: one pbrMetallicRoughness material holding the fitted
+ * baseColor (1 channel: grey; 3 channels: RGB), metallic and roughness of a
+ * "gltf" model vector, on a UV sphere of radius 1 (positions, normals,
+ * indices) in a one-node scene. `name` names the material and the node.
+ * Returns 0, or -1 with msg saying why (a model other than "gltf", a
+ * channel count other than 1 or 3, out of memory, I/O). */
+int cli_gltf_export(const char *path, const brdffit_model *model, const double *params,
+                    size_t n_channels, const char *name, char *msg, size_t msg_size);
+
+#endif /* BRDFFIT_CLI_EXPORT_GLTF_H */
