@@ -116,6 +116,17 @@ static double gltf(const double *p, const geo *g)
     return (1.0 - m) * dielectric + m * metal;
 }
 
+/* KHR_materials_clearcoat on top: mix(material, coat lobe, k F(0.04, n.v)),
+ * the coat lobe being gltf's specular with its own roughness: gltf's white
+ * metal, whose F(1, h.v) is 1. p = roughness, metallic, clearcoat,
+ * clearcoatRoughness, baseColor. */
+static double gltf_clearcoat(const double *p, const geo *g)
+{
+    const double base[3] = {p[0], p[1], p[4]}, coat[3] = {p[3], 1.0, 1.0};
+    const double fc = p[2] * schlick(0.04, g->nv);
+    return (1.0 - fc) * gltf(base, g) + fc * gltf(coat, g);
+}
+
 static double reference(const char *name, const double *p, const geo *g)
 {
     if (strcmp(name, "lambert") == 0) return p[0] / PI;
@@ -146,6 +157,7 @@ static double reference(const char *name, const double *p, const geo *g)
         return p[2] / PI + p[3] * pow(fmax(0.0, base), p[0]);
     }
     if (strcmp(name, "gltf") == 0) return gltf(p, g);
+    if (strcmp(name, "gltf-clearcoat") == 0) return gltf_clearcoat(p, g);
     fail_msg("no reference for model %s", name);
     return 0.0;
 }
@@ -229,6 +241,12 @@ static void test_normal_incidence(void **state)
          {0.5, 0.3, cd},
          0.7 * (0.96 * cd / PI + 0.04 / (4.0 * PI * 0.0625)) +
              0.3 * cd / (4.0 * PI * 0.0625)},
+        /* coat: n.v = 1, so F = 0.04; its lobe 1 / (4 pi 0.2^4) */
+        {"gltf-clearcoat",
+         {0.5, 0.3, 0.5, 0.2, cd},
+         0.98 * (0.7 * (0.96 * cd / PI + 0.04 / (4.0 * PI * 0.0625)) +
+                 0.3 * cd / (4.0 * PI * 0.0625)) +
+             0.02 / (4.0 * PI * 0.0016)},
     };
     size_t i;
     (void)state;
@@ -346,6 +364,8 @@ static const model_case model_cases[] = {
     {"ward-duer", {{0.2, 0.3, 0.1}, {0.05, 0.05, 0.3}, {0.9, 0.6, 0.7}}},
     {"lafortune", {{10.0, 0.9, 0.3, 0.5}, {200.0, 0.5, 0.05, 2.0}, {1.5, 0.1, 0.6, 0.3}}},
     {"gltf", {{0.5, 0.0, 0.8}, {0.15, 1.0, 0.9}, {0.9, 0.4, 0.3}}},
+    {"gltf-clearcoat",
+     {{0.5, 0.0, 1.0, 0.05, 0.8}, {0.15, 1.0, 0.3, 0.4, 0.9}, {0.9, 0.4, 0.7, 0.02, 0.3}}},
 };
 
 static void test_reference_formulas(void **state)
