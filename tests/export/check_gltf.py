@@ -5,7 +5,8 @@ record, independently of the Khronos validator:
 
 The material must hold the fitted parameters exactly (baseColorFactor =
 baseColor and alpha 1, metallicFactor = metallic, roughnessFactor =
-roughness); the embedded buffer must decode to the declared length; the
+roughness, and for a gltf-clearcoat fit KHR_materials_clearcoat's
+clearcoatFactor and clearcoatRoughnessFactor); the embedded buffer must decode to the declared length; the
 positions must lie on the unit sphere with their declared bounds, the
 normals equal the positions, and the triangles be non-degenerate, face
 outwards and cover the sphere's area. Exits 1 with a message on the first
@@ -39,8 +40,23 @@ def accessor_data(doc, buf, index, fmt, width):
     return [struct.unpack_from("<" + fmt * width, buf, start + i * size) for i in range(acc["count"])]
 
 
+def check_coat(doc, fit):
+    params = fit["params"]
+    ext = doc["materials"][0].get("extensions", {})
+    if fit["model"] != "gltf-clearcoat":
+        expect(ext == {} and "extensionsUsed" not in doc, "extensions on an uncoated material")
+        return
+    coat = ext.get("KHR_materials_clearcoat")
+    expect(coat is not None, "no KHR_materials_clearcoat on a gltf-clearcoat fit")
+    expect(doc.get("extensionsUsed") == ["KHR_materials_clearcoat"], "extensionsUsed is wrong")
+    expect(coat["clearcoatFactor"] == params["clearcoat"], "clearcoatFactor differs from the fit")
+    expect(coat["clearcoatRoughnessFactor"] == params["clearcoatRoughness"],
+           "clearcoatRoughnessFactor differs from the fit")
+
+
 def check_material(doc, fit):
     params = fit["params"]
+    check_coat(doc, fit)
     pbr = doc["materials"][0]["pbrMetallicRoughness"]
     colour = params["baseColor"]
     colour = colour if isinstance(colour, list) else [colour] * 3

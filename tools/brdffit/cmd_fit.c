@@ -34,7 +34,8 @@ static const char fit_help[] =
     "  --gain G              brightness of the preview textures; default 3\n"
     "  --gamma G             gamma of the preview pictures; default 2.2\n"
     "  --gltf OUT.gltf       write the fitted material on a sphere as a glTF 2.0\n"
-    "                        asset (needs --model gltf; %s as for --preview)\n"
+    "                        asset (needs --model gltf or gltf-clearcoat; %s as\n"
+    "                        for --preview)\n"
     "\n"
     "Exit status: 0 when every file was fitted, 1 when some failed, 2 for usage\n"
     "errors.\n";
@@ -437,11 +438,11 @@ static int check_options(const fit_opts *o, int n_files)
                                       "libpng");
     if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
         return cli_usage_error("fit", "--preview with several files needs %%s in its name");
-    if (o->gltf != NULL && strcmp(o->model_name, CLI_GLTF_MODEL) != 0)
+    if (o->gltf != NULL && !cli_gltf_exportable(o->model_name))
         return cli_usage_error("fit",
-                               "--gltf exports the glTF BRDF itself: fit with --model %s "
+                               "--gltf exports the glTF BRDF itself: fit with --model %s or %s "
                                "(\"%s\" is not the glTF BRDF, and brdffit does not convert it)",
-                               CLI_GLTF_MODEL, o->model_name);
+                               CLI_GLTF_MODEL, CLI_GLTF_COAT_MODEL, o->model_name);
     if (o->gltf != NULL && n_files > 1 && strstr(o->gltf, "%s") == NULL)
         return cli_usage_error("fit", "--gltf with several files needs %%s in its name");
     return 0;

@@ -29,6 +29,8 @@
 
 typedef struct material {
     double base[3], metallic, roughness;
+    int coated; /* KHR_materials_clearcoat: clearcoat, clearcoat_roughness */
+    double clearcoat, clearcoat_roughness;
 } material;
 
 typedef struct sphere {
@@ -54,13 +56,25 @@ static int param_value(const brdffit_model *model, const double *params, size_t 
     return 0;
 }
 
+int cli_gltf_exportable(const char *model_name)
+{
+    return strcmp(model_name, CLI_GLTF_MODEL) == 0 || strcmp(model_name, CLI_GLTF_COAT_MODEL) == 0;
+}
+
 static int read_material(const brdffit_model *model, const double *params, size_t nc, material *m,
                          char *msg, size_t msg_size)
 {
     size_t c;
-    if (strcmp(brdffit_model_name(model), CLI_GLTF_MODEL) != 0) {
-        cli_format(msg, msg_size, "model \"%s\" is not the glTF BRDF (fit with --model %s)",
-                   brdffit_model_name(model), CLI_GLTF_MODEL);
+    if (!cli_gltf_exportable(brdffit_model_name(model))) {
+        cli_format(msg, msg_size, "model \"%s\" is not the glTF BRDF (fit with --model %s or %s)",
+                   brdffit_model_name(model), CLI_GLTF_MODEL, CLI_GLTF_COAT_MODEL);
+        return -1;
+    }
+    m->coated = strcmp(brdffit_model_name(model), CLI_GLTF_COAT_MODEL) == 0;
+    if (m->coated &&
+        (param_value(model, params, nc, "clearcoat", 0, &m->clearcoat) != 0 ||
+         param_value(model, params, nc, "clearcoatRoughness", 0, &m->clearcoat_roughness) != 0)) {
+        cli_format(msg, msg_size, "model \"%s\" lacks a clearcoat parameter", CLI_GLTF_COAT_MODEL);
         return -1;
     }
     if (nc != 1 && nc != 3) {
@@ -71,7 +85,7 @@ static int read_material(const brdffit_model *model, const double *params, size_
         if (param_value(model, params, nc, "baseColor", nc == 3 ? c : 0, &m->base[c]) != 0) break;
     if (c < 3 || param_value(model, params, nc, "metallic", 0, &m->metallic) != 0 ||
         param_value(model, params, nc, "roughness", 0, &m->roughness) != 0) {
-        cli_format(msg, msg_size, "model \"%s\" lacks a glTF parameter", CLI_GLTF_MODEL);
+        cli_format(msg, msg_size, "model \"%s\" lacks a glTF parameter", brdffit_model_name(model));
         return -1;
     }
     return 0;
@@ -191,8 +205,14 @@ static void put_material(FILE *f, const gltf_doc *d, const char *name)
     fprintf(f, "  \"materials\": [{\"name\": %s, \"pbrMetallicRoughness\": {", name);
     fprintf(f, "\"baseColorFactor\": [%.17g, %.17g, %.17g, 1], ", d->mat->base[0], d->mat->base[1],
             d->mat->base[2]);
-    fprintf(f, "\"metallicFactor\": %.17g, \"roughnessFactor\": %.17g}}],\n", d->mat->metallic,
+    fprintf(f, "\"metallicFactor\": %.17g, \"roughnessFactor\": %.17g}", d->mat->metallic,
             d->mat->roughness);
+    if (d->mat->coated)
+        fprintf(f,
+                ", \"extensions\": {\"KHR_materials_clearcoat\": {\"clearcoatFactor\": %.17g, "
+                "\"clearcoatRoughnessFactor\": %.17g}}",
+                d->mat->clearcoat, d->mat->clearcoat_roughness);
+    fprintf(f, "}],\n");
     fprintf(f, "  \"nodes\": [{\"name\": %s, \"mesh\": 0}],\n", name);
 }
 
@@ -239,6 +259,7 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
     pack_buffer(d->s, bytes);
     fprintf(f, "{\n  \"asset\": {\"version\": \"2.0\", \"generator\": \"brdffit %s\"},\n",
             BRDFFIT_CLI_VERSION);
+    if (d->mat->coated) fprintf(f, "  \"extensionsUsed\": [\"KHR_materials_clearcoat\"],\n");
     fprintf(f, "  \"scene\": 0,\n  \"scenes\": [{\"nodes\": [0]}],\n");
     put_material(f, d, name.data);
     fprintf(f,
