@@ -1,4 +1,5 @@
-/* brdffit fit --gltf: the fitted glTF material as a glTF 2.0 asset. */
+/* brdffit fit --gltf / --mtlx: the fitted glTF material as a glTF 2.0
+ * asset and as a MaterialX document. */
 #ifndef BRDFFIT_CLI_EXPORT_GLTF_H
 #define BRDFFIT_CLI_EXPORT_GLTF_H
 
@@ -21,6 +22,13 @@ int cli_gltf_exportable(const char *model_name);
  * Returns 0, or -1 with msg saying why (a model other than those two, a
  * channel count other than 1 or 3, out of memory, I/O). */
 int cli_gltf_export(const char *path, const brdffit_model *model, const double *params,
+                    size_t n_channels, const char *name, char *msg, size_t msg_size);
+
+/* export_mtlx.c: write `path` (atomically) as a MaterialX 1.39 document
+ * with one open_pbr_surface (OpenPBR Surface 1.1) holding the same fitted
+ * material, named after `name` (made a MaterialX identifier), and its
+ * surfacematerial. Returns 0, or -1 with msg as for cli_gltf_export(). */
+int cli_mtlx_export(const char *path, const brdffit_model *model, const double *params,
                     size_t n_channels, const char *name, char *msg, size_t msg_size);
 
 #endif /* BRDFFIT_CLI_EXPORT_GLTF_H */
