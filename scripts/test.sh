@@ -126,6 +126,14 @@ if ! install_packages test.sh "${packages[@]}"; then
     exit 1
 fi
 
+# The export tests (tests/export) run the Khronos glTF Validator and
+# MaterialX, which they install with npm; Debian's npm package brings node and npm. It is
+# installed only when npm is missing: builds of nodejs from elsewhere ship
+# their own npm and conflict with Debian's.
+if ! command -v npm > /dev/null && ! install_packages test.sh npm; then
+    echo "test.sh: npm could not be installed: the export validation tests will be skipped"
+fi
+
 CC=gcc CXX=g++ run_stage gcc build -DBRDFFIT_WERROR=ON -DBRDFFIT_BUILD_BENCH=ON || failed+=(gcc)
 
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \

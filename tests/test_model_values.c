@@ -97,6 +97,36 @@ static double ward_lobe(double a, const geo *g, int duer)
     return e / (4.0 * PI * a * a * norm);
 }
 
+/* glTF 2.0 metallic-roughness, composed as the specification writes it:
+ * mix(fresnel_mix(0.04, diffuse, specular), conductor_fresnel(baseColor,
+ * specular), metallic), with G in its height-correlated form over
+ * 4 |n.l| |n.v|. p = roughness, metallic, baseColor. */
+static double gltf(const double *p, const geo *g)
+{
+    const double alpha = p[0] * p[0], a2 = alpha * alpha, m = p[1], base = p[2];
+    const double q = g->nh * g->nh * (a2 - 1.0) + 1.0;
+    const double d = a2 / (PI * q * q);
+    const double gg = 2.0 * g->nl * g->nv /
+                      (g->nv * sqrt(a2 + (1.0 - a2) * g->nl * g->nl) +
+                       g->nl * sqrt(a2 + (1.0 - a2) * g->nv * g->nv));
+    const double specular = gg * d / (4.0 * g->nl * g->nv);
+    const double fr = schlick(0.04, g->hv);
+    const double dielectric = (1.0 - fr) * base / PI + fr * specular;
+    const double metal = specular * schlick(base, g->hv);
+    return (1.0 - m) * dielectric + m * metal;
+}
+
+/* KHR_materials_clearcoat on top: mix(material, coat lobe, k F(0.04, n.v)),
+ * the coat lobe being gltf's specular with its own roughness: gltf's white
+ * metal, whose F(1, h.v) is 1. p = roughness, metallic, clearcoat,
+ * clearcoatRoughness, baseColor. */
+static double gltf_clearcoat(const double *p, const geo *g)
+{
+    const double base[3] = {p[0], p[1], p[4]}, coat[3] = {p[3], 1.0, 1.0};
+    const double fc = p[2] * schlick(0.04, g->nv);
+    return (1.0 - fc) * gltf(base, g) + fc * gltf(coat, g);
+}
+
 static double reference(const char *name, const double *p, const geo *g)
 {
     if (strcmp(name, "lambert") == 0) return p[0] / PI;
@@ -126,6 +156,8 @@ static double reference(const char *name, const double *p, const geo *g)
         const double base = -(g->l[0] * g->v[0] + g->l[1] * g->v[1]) + p[1] * g->l[2] * g->v[2];
         return p[2] / PI + p[3] * pow(fmax(0.0, base), p[0]);
     }
+    if (strcmp(name, "gltf") == 0) return gltf(p, g);
+    if (strcmp(name, "gltf-clearcoat") == 0) return gltf_clearcoat(p, g);
     fail_msg("no reference for model %s", name);
     return 0.0;
 }
@@ -204,6 +236,17 @@ static void test_normal_incidence(void **state)
         {"ward", {m, cd, cs}, cd / PI + cs / (4.0 * PI * m * m)},
         {"ward-duer", {m, cd, cs}, cd / PI + cs / (4.0 * PI * m * m)},
         {"lafortune", {ns, 0.8, cd, cs}, cd / PI + cs * pow(0.8, ns)},
+        /* D = 1 / (pi alpha^2), Vis = 1/4, F = F0; alpha^2 = 0.5^4 = 0.0625 */
+        {"gltf",
+         {0.5, 0.3, cd},
+         0.7 * (0.96 * cd / PI + 0.04 / (4.0 * PI * 0.0625)) +
+             0.3 * cd / (4.0 * PI * 0.0625)},
+        /* coat: n.v = 1, so F = 0.04; its lobe 1 / (4 pi 0.2^4) */
+        {"gltf-clearcoat",
+         {0.5, 0.3, 0.5, 0.2, cd},
+         0.98 * (0.7 * (0.96 * cd / PI + 0.04 / (4.0 * PI * 0.0625)) +
+                 0.3 * cd / (4.0 * PI * 0.0625)) +
+             0.02 / (4.0 * PI * 0.0016)},
     };
     size_t i;
     (void)state;
@@ -257,6 +300,24 @@ static void test_mirror_direction(void **state)
     brdffit_model_destroy(model);
 }
 
+/* gltf's specular lobe S is ggx's lobe with a = roughness^2: a white metal
+ * (metallic 1, baseColor 1, so F = 1) equals ggx with cd 0, cs 1, F0 1. */
+static void test_gltf_lobe_is_ggx(void **state)
+{
+    const dirs d = {0.7, PI, 0.5, 0.3};
+    const double r = 0.4;
+    double xg[4] = {r, 1.0, 1.0, 1.0}, xx[6] = {r * r, 1.0, 0.0, 0.0, 1.0, 1.0};
+    double vg[2], vx[2];
+    brdffit_model *g = create("gltf"), *x = create("ggx");
+    eval_at(g, d, xg, vg);
+    eval_at(x, d, xx, vx);
+    assert_rel(vg[0], vx[0], 1e-13, "gltf white metal against ggx");
+    assert_rel(vg[1], vx[1], 1e-13, "gltf white metal against ggx, channel 1");
+    brdffit_model_destroy(g);
+    brdffit_model_destroy(x);
+    (void)state;
+}
+
 /* ---- every model at many directions against the written-out formulas ----- */
 
 #define DEGR(x) ((x)*PI / 180.0)
@@ -302,6 +363,9 @@ static const model_case model_cases[] = {
     {"ward", {{0.2, 0.3, 0.1}, {0.05, 0.05, 0.3}, {0.9, 0.6, 0.7}}},
     {"ward-duer", {{0.2, 0.3, 0.1}, {0.05, 0.05, 0.3}, {0.9, 0.6, 0.7}}},
     {"lafortune", {{10.0, 0.9, 0.3, 0.5}, {200.0, 0.5, 0.05, 2.0}, {1.5, 0.1, 0.6, 0.3}}},
+    {"gltf", {{0.5, 0.0, 0.8}, {0.15, 1.0, 0.9}, {0.9, 0.4, 0.3}}},
+    {"gltf-clearcoat",
+     {{0.5, 0.0, 1.0, 0.05, 0.8}, {0.15, 1.0, 0.3, 0.4, 0.9}, {0.9, 0.4, 0.7, 0.02, 0.3}}},
 };
 
 static void test_reference_formulas(void **state)
@@ -416,6 +480,7 @@ int main(void)
         cmocka_unit_test(test_normal_incidence),     cmocka_unit_test(test_mirror_direction),
         cmocka_unit_test(test_reference_formulas),   cmocka_unit_test(test_grazing_clamped),
         cmocka_unit_test(test_thesis_ns_derivative), cmocka_unit_test(test_isotropy),
+        cmocka_unit_test(test_gltf_lobe_is_ggx),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

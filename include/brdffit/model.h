@@ -24,7 +24,8 @@
  * The built-in models, their formulas as implemented, parameters, ranges,
  * defaults and flags are listed in docs/models.md. All built-in models
  * declare their shared shape parameters first, then their per-channel
- * linear colours.
+ * colours; the colours are linear in every built-in model except "gltf" and
+ * "gltf-clearcoat" (affine in their baseColor, see docs/models.md).
  *
  * A model handle is immutable: every function taking a const model is
  * thread-safe, provided the evaluation callback of a user model is.

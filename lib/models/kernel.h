@@ -1,6 +1,7 @@
 /* The built-in model kernels (docs/models.md). Not installed.
  *
- * Every built-in model has the form
+ * Every built-in model but the glTF ones (kernel_gltf.c, affine in their
+ * colour) has the form
  *
  *     value_c(s) = sum over linear parameters m of p_{m,c} * B_m(s; theta)
  *
@@ -44,7 +45,8 @@ typedef struct bf_builtin {
     size_t n_params;
     const brdffit_param_info *params;
     brdffit_model_eval_fn eval;
-    const bf_kernel *kernel; /* the basis form, for the fit's fused passes */
+    const bf_kernel *kernel; /* the basis form, for the fit's fused passes; NULL
+                              * for a model that has none (the glTF ones) */
 } bf_builtin;
 
 /* Branch-free min and max for finite arguments (compile to minsd/maxsd and
@@ -83,5 +85,8 @@ extern const bf_builtin bf_builtin_ward;
 extern const bf_builtin bf_builtin_ward_duer;
 /* kernel_lafortune.c */
 extern const bf_builtin bf_builtin_lafortune;
+/* kernel_gltf.c */
+extern const bf_builtin bf_builtin_gltf;
+extern const bf_builtin bf_builtin_gltf_clearcoat;
 
 #endif /* BRDFFIT_MODELS_KERNEL_H */

@@ -19,6 +19,8 @@ static const bf_builtin *const builtins[] = {
     &bf_builtin_ward,
     &bf_builtin_ward_duer,
     &bf_builtin_lafortune,
+    &bf_builtin_gltf,
+    &bf_builtin_gltf_clearcoat,
 };
 
 enum { BF_N_BUILTINS = sizeof builtins / sizeof builtins[0] };

@@ -34,7 +34,8 @@ class BuiltinModels(unittest.TestCase):
     def test_builtin_names(self):
         names = Model.builtin_names()
         for name in ("lambert", "phong", "blinn-phong", "ashikhmin-shirley",
-                     "ashikhmin-shirley-fresnel", "cook-torrance", "ggx", "ward", "lafortune"):
+                     "ashikhmin-shirley-fresnel", "cook-torrance", "ggx", "ward", "lafortune",
+                     "gltf"):
             self.assertIn(name, names)
         for name in names:
             with Model.builtin(name) as m:

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "export_gltf.h"
 #include "fit_result.h"
 
 #define PI 3.14159265358979323846
@@ -34,13 +35,18 @@ static const char fit_help[] =
     "  --gamma G             gamma of the preview pictures; default 2.2\n"
     "  --strict              a fit with warnings (parameter at a bound, albedo\n"
     "                        above 1, iteration limit, ...) counts as failed\n"
+    "  --gltf OUT.gltf       write the fitted material on a sphere as a glTF 2.0\n"
+    "                        asset (needs --model gltf or gltf-clearcoat; %s as\n"
+    "                        for --preview)\n"
+    "  --mtlx OUT.mtlx       write the same material as a MaterialX document with\n"
+    "                        an open_pbr_surface (same models; %s as for --preview)\n"
     "\n"
     "Warnings about a fit go to standard error, and into the summary and JSON.\n"
     "Exit status: 0 when every file was fitted, 1 when some failed (or, with\n"
     "--strict, has warnings), 2 for usage errors.\n";
 
 typedef struct fit_opts {
-    const char *model_name, *start_text, *csv_path, *preview;
+    const char *model_name, *start_text, *csv_path, *preview, *gltf, *mtlx;
     brdffit_pipeline pipeline;
     double cap, clearcoat, gain, gamma;
     unsigned weighting;
@@ -194,6 +200,28 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
     free(name);
 }
 
+/* --gltf or --mtlx (`mtlx`): the file named by `pattern` for this input. */
+static void write_export(const fit_run *run, fit_result *r, const char *pattern, int mtlx)
+{
+    char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300], base[128];
+    char *name = preview_name(pattern, r->path);
+    const char *what = mtlx ? "MaterialX" : "glTF";
+    int rc;
+    cli_base_name(r->path, base, sizeof base);
+    if (name == NULL) {
+        cli_format(full, sizeof full, "%s: out of memory", what);
+        fail(r, BRDFFIT_E_OUT_OF_MEMORY, full);
+        return;
+    }
+    rc = mtlx ? cli_mtlx_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg)
+              : cli_gltf_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg);
+    if (rc != 0) {
+        cli_format(full, sizeof full, "%s %s: %s", what, name, msg);
+        fail(r, BRDFFIT_E_IO, full);
+    }
+    free(name);
+}
+
 static void fit_one(const fit_run *run, fit_result *r)
 {
     brdffit_grid *grid = NULL;
@@ -220,6 +248,8 @@ static void fit_one(const fit_run *run, fit_result *r)
             fail(r, st, brdffit_fit_message(fit));
         else if (collect(fit, r) == 0 && run->opts->preview != NULL)
             write_preview(fit, grid, run, r);
+        if (r->fitted && run->opts->gltf != NULL) write_export(run, r, run->opts->gltf, 0);
+        if (r->fitted && run->opts->mtlx != NULL) write_export(run, r, run->opts->mtlx, 1);
     }
     brdffit_fit_destroy(fit);
     brdffit_grid_destroy(grid);
@@ -371,6 +401,10 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->csv_path = value;
     else if (strcmp(name, "preview") == 0)
         o->preview = value;
+    else if (strcmp(name, "gltf") == 0)
+        o->gltf = value;
+    else if (strcmp(name, "mtlx") == 0)
+        o->mtlx = value;
     else if (strcmp(name, "pipeline") == 0) {
         if (!parse_pipeline(value, &o->pipeline))
             return cli_usage_error("fit", "--pipeline is auto, joint or two-stage");
@@ -421,7 +455,8 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1},
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
-                                         {"strict", 0},    {NULL, 0}};
+                                         {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
+                                         {NULL, 0}};
     cli_args a;
     const char *name, *value;
     int r, n_files = 0;
@@ -444,6 +479,16 @@ static int check_options(const fit_opts *o, int n_files)
                                       "libpng");
     if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
         return cli_usage_error("fit", "--preview with several files needs %%s in its name");
+    if ((o->gltf != NULL || o->mtlx != NULL) && !cli_gltf_exportable(o->model_name))
+        return cli_usage_error("fit",
+                               "--%s exports the glTF BRDF itself: fit with --model %s or %s "
+                               "(\"%s\" is not the glTF BRDF, and brdffit does not convert it)",
+                               o->gltf != NULL ? "gltf" : "mtlx", CLI_GLTF_MODEL,
+                               CLI_GLTF_COAT_MODEL, o->model_name);
+    if (o->gltf != NULL && n_files > 1 && strstr(o->gltf, "%s") == NULL)
+        return cli_usage_error("fit", "--gltf with several files needs %%s in its name");
+    if (o->mtlx != NULL && n_files > 1 && strstr(o->mtlx, "%s") == NULL)
+        return cli_usage_error("fit", "--mtlx with several files needs %%s in its name");
     return 0;
 }
 

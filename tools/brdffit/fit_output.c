@@ -58,7 +58,8 @@ static double param_at(const fit_result *r, const double *v, size_t k, size_t c)
 static void summary_param(cli_buf *b, const fit_result *r, size_t k)
 {
     size_t c, n = param_width(r, k);
-    cli_buf_printf(b, "  %-12s", brdffit_model_param(r->model, k)->name);
+    /* names of 12 characters or more ("clearcoatRoughness") still get a space */
+    cli_buf_printf(b, "  %-11s ", brdffit_model_param(r->model, k)->name);
     for (c = 0; c < n; c++)
         cli_buf_printf(b, "%s%.6g +- %.2g", c ? ", " : "", param_at(r, r->params, k, c),
                        param_at(r, r->se, k, c));

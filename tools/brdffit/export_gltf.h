@@ -1,0 +1,34 @@
+/* brdffit fit --gltf / --mtlx: the fitted glTF material as a glTF 2.0
+ * asset and as a MaterialX document. */
+#ifndef BRDFFIT_CLI_EXPORT_GLTF_H
+#define BRDFFIT_CLI_EXPORT_GLTF_H
+
+#include "cli.h"
+
+/* The models whose fits can be exported: the glTF BRDF itself, and with
+ * the KHR_materials_clearcoat coat. */
+#define CLI_GLTF_MODEL "gltf"
+#define CLI_GLTF_COAT_MODEL "gltf-clearcoat"
+
+/* Whether `model_name` names one of them. */
+int cli_gltf_exportable(const char *model_name);
+
+/* Write `path` (atomically) as a glTF 2.0 JSON asset with an embedded
+ * base64 buffer: one pbrMetallicRoughness material holding the fitted
+ * baseColor (1 channel: grey; 3 channels: RGB), metallic and roughness of a
+ * "gltf" model vector (a "gltf-clearcoat" one adds the KHR_materials_clearcoat
+ * extension with its clearcoat and clearcoatRoughness), on a UV sphere of radius 1 (positions, normals,
+ * indices) in a one-node scene. `name` names the material and the node.
+ * Returns 0, or -1 with msg saying why (a model other than those two, a
+ * channel count other than 1 or 3, out of memory, I/O). */
+int cli_gltf_export(const char *path, const brdffit_model *model, const double *params,
+                    size_t n_channels, const char *name, char *msg, size_t msg_size);
+
+/* export_mtlx.c: write `path` (atomically) as a MaterialX 1.39 document
+ * with one open_pbr_surface (OpenPBR Surface 1.1) holding the same fitted
+ * material, named after `name` (made a MaterialX identifier), and its
+ * surfacematerial. Returns 0, or -1 with msg as for cli_gltf_export(). */
+int cli_mtlx_export(const char *path, const brdffit_model *model, const double *params,
+                    size_t n_channels, const char *name, char *msg, size_t msg_size);
+
+#endif /* BRDFFIT_CLI_EXPORT_GLTF_H */
