@@ -34,12 +34,19 @@ __version__ = "0.1.0"
 __all__ = ["BrdffitError", "DEFAULT_CAP", "Fit", "Grid", "IterationInfo", "JacobianReport",
            "METRICS", "Model", "PIPELINES", "ParamFlags", "ParamInfo", "ParamLayout",
            "STOP_REASONS", "Status", "Weighting", "default_axes", "deg2rad",
-           "library_version", "rad2deg", "status_name", "status_string"]
+           "library_path", "library_version", "rad2deg", "status_name", "status_string"]
 
 
 def library_version():
     """The version string of the loaded C library, e.g. ``"0.1.0"``."""
     return _clib.brdffit_version_string().decode()
+
+
+def library_path():
+    """The file the C library was loaded from, as given to the loader: the
+    library installed with this package, ``BRDFFIT_LIBRARY``, or a name the
+    dynamic loader resolved."""
+    return _clib._name
 
 
 def deg2rad(degrees):

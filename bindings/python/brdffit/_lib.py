@@ -175,6 +175,11 @@ def _candidates():
     if env:
         return [env]
     names = []
+    try:  # written by `cmake --install`: the library installed with this package
+        from . import _install
+        names.append(_install.library_path())
+    except ImportError:
+        pass
     found = ctypes.util.find_library("brdffit")
     if found:
         names.append(found)
