@@ -111,6 +111,16 @@ class ClusterTest(unittest.TestCase):
         rel = np.abs(got.params[ok] - truth[ok]) / truth[ok]
         self.assertLess(rel.max(), 1e-6)
 
+    def test_texel_file(self):
+        truth, values = texel_map(20, seed=4)
+        geometry = bd.Geometry(regular=AXES)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "map.npy")
+            np.save(path, values)
+            got = bd.fit_texels(self.client, geometry, path, per_task=6)
+        assert_same(self, got, bd.fit_texels_local(geometry, values))
+        self.assertLess((np.abs(got.params - truth) / truth).max(), 1e-6)
+
     def test_worker_killed_mid_run(self):
         truth, values = texel_map(160, seed=5)
         geometry = bd.Geometry(regular=AXES)

@@ -34,7 +34,7 @@ from .grid import Grid
 from .model import Model
 
 __all__ = ["Geometry", "FitTable", "BatchJob", "fit_files", "fit_texels", "submit_files",
-           "submit_texels", "fit_files_local", "fit_texels_local"]
+           "submit_texels", "submit_texel_file", "fit_files_local", "fit_texels_local"]
 
 ModelSpec = Union[str, Callable[[], Model]]
 
@@ -128,6 +128,15 @@ def texels_task(values: np.ndarray, geometry: Geometry, model: ModelSpec,
                 options: Dict[str, Any]):
     """One task: fit the texels ``values[k]`` over the shared ``geometry``."""
     return _fit_items(list(values), geometry.grid, model, options)
+
+
+def texel_file_task(path: str, start: int, stop: int, geometry: Geometry, model: ModelSpec,
+                    options: Dict[str, Any]):
+    """One task: fit texels ``start .. stop - 1`` of the ``.npy`` map at
+    ``path``, read (memory-mapped) where the task runs."""
+    values = np.load(path, mmap_mode="r")
+    tile = _texel_values(geometry, values[start:stop])
+    return _fit_items(list(tile), geometry.grid, model, options)
 
 
 class FitTable:
@@ -255,7 +264,9 @@ def submit_texels(client, geometry: Geometry, values, model: ModelSpec = "ashikh
     ``(n_texels, n_samples, n_channels)`` (or ``(n_texels, n_theta_i,
     n_theta_o, n_phi_o, n_channels)`` for a regular geometry), NaN for a
     missing value. The geometry is scattered to every worker once; each task
-    carries only its ``per_task`` texels' values."""
+    carries only its ``per_task`` texels' values, which travel with the task
+    through the scheduler (so a task lost with a worker can run again; for
+    large maps :func:`submit_texel_file` avoids that traffic)."""
     v = _texel_values(geometry, values)
     options = _options(options)
     shared = client.scatter(geometry, broadcast=True)
@@ -263,6 +274,24 @@ def submit_texels(client, geometry: Geometry, values, model: ModelSpec = "ashikh
                              pure=True, retries=retries)
                for r in _chunks(v.shape[0], per_task)]
     return BatchJob(client, list(range(v.shape[0])), futures)
+
+
+def submit_texel_file(client, geometry: Geometry, path: str,
+                      model: ModelSpec = "ashikhmin-shirley",
+                      options: Optional[Dict[str, Any]] = None, per_task: int = 64,
+                      retries: int = 2) -> BatchJob:
+    """As :func:`submit_texels` for a map stored as a ``.npy`` file (shape
+    as the ``values`` of :func:`submit_texels`) that the workers can read:
+    each task reads its own tile, so only a path and a range travel through
+    the scheduler, and a task lost with a worker is simply read again."""
+    path = os.fspath(path)
+    n = np.load(path, mmap_mode="r").shape[0]
+    options = _options(options)
+    shared = client.scatter(geometry, broadcast=True)
+    futures = [client.submit(texel_file_task, path, r.start, r.stop, shared, model, options,
+                             pure=True, retries=retries)
+               for r in _chunks(n, per_task)]
+    return BatchJob(client, list(range(n)), futures)
 
 
 def fit_files(client, paths: Sequence[str], model: ModelSpec = "ashikhmin-shirley",
@@ -279,8 +308,11 @@ def fit_files(client, paths: Sequence[str], model: ModelSpec = "ashikhmin-shirle
 def fit_texels(client, geometry: Geometry, values, model: ModelSpec = "ashikhmin-shirley",
                options: Optional[Dict[str, Any]] = None, per_task: int = 64, retries: int = 2,
                progress: bool = False) -> FitTable:
-    """Fit the texels of a map on the cluster (see :func:`submit_texels`)."""
-    job = submit_texels(client, geometry, values, model, options, per_task, retries)
+    """Fit the texels of a map on the cluster: ``values`` is an array (see
+    :func:`submit_texels`) or the path of a ``.npy`` file the workers read
+    (see :func:`submit_texel_file`)."""
+    submit = submit_texel_file if isinstance(values, (str, os.PathLike)) else submit_texels
+    job = submit(client, geometry, values, model, options, per_task, retries)
     if progress:
         job.progress()
     return job.result()
@@ -296,5 +328,7 @@ def fit_files_local(paths: Sequence[str], model: ModelSpec = "ashikhmin-shirley"
 def fit_texels_local(geometry: Geometry, values, model: ModelSpec = "ashikhmin-shirley",
                      options: Optional[Dict[str, Any]] = None) -> FitTable:
     """The same fits as :func:`fit_texels`, in this process (no dask needed)."""
+    if isinstance(values, (str, os.PathLike)):
+        values = np.load(os.fspath(values), mmap_mode="r")
     v = _texel_values(geometry, values)
     return FitTable(list(range(v.shape[0])), texels_task(v, geometry, model, _options(options)))
