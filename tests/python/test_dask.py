@@ -55,6 +55,25 @@ def assert_same(test, a, b):
     test.assertEqual([r["error"] for r in a.rows], [r["error"] for r in b.rows])
 
 
+class GeometryTest(unittest.TestCase):
+    def test_unaligned_arrays(self):
+        """Arrays unpickled on a worker may be unaligned (the sanitized build
+        reports a misaligned load in the library if they reach it)."""
+        raw = np.concatenate([a for a in AXES]).tobytes()
+        buf = bytearray(len(raw) + 1)
+        buf[1:] = raw
+        flat = np.frombuffer(buf, dtype=np.float64, offset=1)
+        self.assertFalse(flat.flags.aligned)
+        sizes = np.cumsum([0] + [a.size for a in AXES])
+        unaligned = [flat[sizes[k]:sizes[k + 1]] for k in range(3)]
+        geometry = bd.Geometry(regular=AXES)
+        geometry.arrays = tuple(unaligned)  # as unpickling may leave them
+        truth, values = texel_map(1)
+        with geometry.grid(values[0]) as grid:
+            self.assertEqual(grid.sample_count, geometry.sample_count)
+            np.testing.assert_array_equal(grid.axes[0], AXES[0])
+
+
 class ClusterTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -70,9 +70,18 @@ class Geometry:
         missing = np.isnan(values)
         missing = missing if missing.any() else None
         values = np.where(np.isnan(values), 0.0, values)
+        # Arrays unpickled on a worker may lie at any byte offset of the
+        # message; the library reads doubles, so hand it aligned copies.
+        arrays = [_aligned(a) for a in self.arrays]
         if self.kind == "regular":
-            return Grid.from_regular(*self.arrays, values, missing=missing)
-        return Grid.from_scattered(*self.arrays, values, missing=missing, weights=self.weights)
+            return Grid.from_regular(*arrays, values, missing=missing)
+        weights = None if self.weights is None else _aligned(self.weights)
+        return Grid.from_scattered(*arrays, values, missing=missing, weights=weights)
+
+
+def _aligned(a: np.ndarray) -> np.ndarray:
+    """``a`` as an aligned, C-contiguous float64 array (a copy only if needed)."""
+    return np.require(a, dtype=np.float64, requirements=["C", "A"])
 
 
 def _model(spec: ModelSpec) -> Model:
