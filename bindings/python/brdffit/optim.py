@@ -93,10 +93,11 @@ class Optimizer(Handle):
                 raise ValueError("n_rows is needed with a problem function")
             (self.set_residuals if residuals is not None else self.set_normal)(
                 residuals if residuals is not None else normal, n_rows)
-        for name in ("damping", "bounds", "fixed", "callback"):
+        if "bounds" in settings:
+            self.set_bounds(*settings.pop("bounds"))
+        for name in ("damping", "fixed", "callback"):
             if name in settings:
-                getattr(self, "set_" + name)(*((settings.pop(name),) if name != "bounds"
-                                               else settings.pop(name)))
+                getattr(self, "set_" + name)(settings.pop(name))
         for name, value in settings.items():
             if name not in _SETTINGS:
                 raise TypeError("unknown optimizer setting %r" % name)
