@@ -12,7 +12,8 @@ its own known parameters, fitted with the default (auto) pipeline. Each
 figure is the best of --repeat runs after a warm-up run; a cluster run
 includes scattering the geometry, shipping the values (an array in memory:
 with the tasks, through the scheduler; a .npy map file: each worker reads
-its tiles) and gathering the table. --smoke runs a tiny problem once on one worker (checks that the script
+its tiles) and gathering the table. It also times tasks of a single fit of almost no work (the round trip of a
+task). --smoke runs a tiny problem once on one worker (checks that the script
 works; nothing it prints is a figure).
 """
 
@@ -55,13 +56,45 @@ def best_time(fn, repeat):
     return min(times)
 
 
-def cluster_time(n_workers, geometry, values, per_task, repeat):
+def cluster_time(n_workers, geometry, values, per_task, repeat, model="ashikhmin-shirley"):
+    """Best time of fit_texels on a fresh cluster of ``n_workers``."""
     from distributed import Client, LocalCluster
     with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                       host="127.0.0.1", dashboard_address=None, silence_logs=50) as cluster, \
             Client(cluster) as client:
-        return best_time(lambda: bd.fit_texels(client, geometry, values, per_task=per_task),
-                         repeat)
+        return best_time(lambda: bd.fit_texels(client, geometry, values, model,
+                                               per_task=per_task), repeat)
+
+
+def tiny_batch(n):
+    """``n`` distinct one-channel texels over an 18-sample geometry (distinct,
+    so no two tasks are the same pure task): a fit costs almost nothing."""
+    axes = (np.array([0.0, 0.5]), np.array([0.0, 0.4, 0.8]), np.array([0.0, 1.5, 3.0]))
+    values = np.linspace(0.1, 0.2, 18)[None, :] * (1.0 + 1e-3 * np.arange(n))[:, None]
+    return bd.Geometry(regular=axes), values[:, :, None]
+
+
+def report_tiny(args):
+    """The round trip of a task of one tiny fit on 1 worker, against the fit."""
+    n_tiny = 100
+    tiny = tiny_batch(n_tiny)
+    t = cluster_time(1, tiny[0], tiny[1], 1, args.repeat, "lambert")
+    alone = best_time(lambda: bd.fit_texels_local(*tiny, "lambert"), args.repeat)
+    print("round trip of a task of one tiny fit, 1 worker: %.2f ms (the fit alone, locally: "
+          "%.3f ms)" % (1e3 * t / n_tiny, 1e3 * alone / n_tiny))
+
+
+def report_source(what, geometry, source, local, args):
+    """Fits per second on 1 and 2 workers for one form of the map."""
+    n, n_tasks = args.texels, math.ceil(args.texels / args.per_task)
+    one = cluster_time(1, geometry, source, args.per_task, args.repeat)
+    print("1 worker,  %-10s %8.1f fits/s  (%.3f s)" % (what, n / one, one))
+    print("overhead per task, %s (1 worker against the local loop): %.2f ms"
+          % (what, 1e3 * (one - local) / n_tasks))
+    if not args.smoke:
+        two = cluster_time(2, geometry, source, args.per_task, args.repeat)
+        print("2 workers, %-10s %8.1f fits/s  (%.3f s)  %.2fx 1 worker"
+              % (what, n / two, two, one / two))
 
 
 def main():
@@ -80,26 +113,18 @@ def main():
         raise SystemExit(77)
     values = texel_map(args.texels)
     geometry = bd.Geometry(regular=AXES)
-    n, n_tasks = args.texels, math.ceil(args.texels / args.per_task)
     print("brdffit.dask: %d texels of %d samples, %d per task (%d tasks); %d CPUs, load %.2f"
-          % (n, geometry.sample_count, args.per_task, n_tasks, os.cpu_count(),
-             os.getloadavg()[0]))
+          % (args.texels, geometry.sample_count, args.per_task,
+             math.ceil(args.texels / args.per_task), os.cpu_count(), os.getloadavg()[0]))
     local = best_time(lambda: bd.fit_texels_local(geometry, values), args.repeat)
-    print("local loop            %8.1f fits/s  (%.3f s)" % (n / local, local))
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "map.npy")
-        np.save(path, values)
-        sources = (("array", values), ("map file", path))
-        for what, source in sources[1:] if args.smoke else sources:
-            one = cluster_time(1, geometry, source, args.per_task, args.repeat)
-            print("1 worker,  %-10s %8.1f fits/s  (%.3f s)" % (what, n / one, one))
-            print("overhead per task, %s (1 worker against the local loop): %.2f ms"
-                  % (what, 1e3 * (one - local) / n_tasks))
-            if args.smoke:
-                continue
-            two = cluster_time(2, geometry, source, args.per_task, args.repeat)
-            print("2 workers, %-10s %8.1f fits/s  (%.3f s)  %.2fx 1 worker"
-                  % (what, n / two, two, one / two))
+    print("local loop            %8.1f fits/s  (%.3f s)" % (args.texels / local, local))
+    report_tiny(args)
+    report_source("array", geometry, values, local, args)
+    if not args.smoke:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "map.npy")
+            np.save(path, values)
+            report_source("map file", geometry, path, local, args)
     print("load average after the runs: %.2f" % os.getloadavg()[0])
 
 
