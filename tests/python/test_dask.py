@@ -116,6 +116,8 @@ class ClusterTest(unittest.TestCase):
         local = bd.fit_texels_local(geometry, values, options=options)
         assert_same(self, got, local)
         np.testing.assert_allclose(got.params[:, 0], 50.0, rtol=1e-12)  # held
+        with self.assertRaises(ValueError):  # a mistake fails at once, not per row
+            bd.fit_texels(self.client, geometry, values, options={"callback": print})
 
     def test_texels_identical_to_local_and_recovered(self):
         truth, values = texel_map(40)
@@ -129,6 +131,16 @@ class ClusterTest(unittest.TestCase):
         ok = got.ok
         rel = np.abs(got.params[ok] - truth[ok]) / truth[ok]
         self.assertLess(rel.max(), 1e-6)
+
+    def test_model_from_a_function(self):
+        truth, values = texel_map(6, seed=6)
+        geometry = bd.Geometry(regular=AXES)
+        got = bd.fit_texels(self.client, geometry, values, per_task=4,
+                            model=lambda: brdffit.Model.builtin("ashikhmin-shirley"),
+                            options={"pipeline": "joint"})
+        local = bd.fit_texels_local(geometry, values, options={"pipeline": "joint"})
+        assert_same(self, got, local)
+        self.assertLess((np.abs(got.params - truth) / truth).max(), 1e-6)
 
     def test_texel_file(self):
         truth, values = texel_map(20, seed=4)

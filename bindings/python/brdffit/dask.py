@@ -236,10 +236,18 @@ class BatchJob:
         return FitTable(self.names, rows)
 
 
+#: The options a batch passes to every Fit (``damping``: a built-in name).
+FIT_OPTIONS = ("pipeline", "cap", "weighting", "clearcoat", "threads", "max_iterations",
+               "start", "fixed", "damping")
+
+
 def _options(options: Optional[Dict[str, Any]]) -> Dict[str, Any]:
+    """Check the options here, so a mistake fails at once, not in every row."""
     options = dict(options or {})
-    if "callback" in options:
-        raise ValueError("a callback cannot run on a cluster")
+    unknown = sorted(set(options) - set(FIT_OPTIONS))
+    if unknown:
+        raise ValueError("unknown batch fit options %s (known: %s)"
+                         % (", ".join(unknown), ", ".join(FIT_OPTIONS)))
     return options
 
 
