@@ -48,6 +48,10 @@ packages=(
     python3          # the Python binding's tests (tests/python)
     python3-numpy
     python3-cffi
+    python3-venv     # python_pip_install: pip install into a venv, offline
+    python3-pip
+    python3-dask     # brdffit.dask and its cluster tests (tests/python)
+    python3-distributed
 )
 
 jobs=2

@@ -9,6 +9,10 @@ Main classes:
 - :class:`Grid`: a measurement (regular or scattered), from arrays or files;
 - :class:`Model`: a built-in model or one written in Python;
 - :class:`Fit`: fits a model to a grid and reports the result;
+- :class:`Optimizer`: the general Levenberg-Marquardt optimizer;
+- :class:`DampingPolicy`, :class:`PythonDamping`: damping policies;
+- :mod:`brdffit.image`: textures, spheres and plots as numpy arrays;
+- :mod:`brdffit.dask`: batch fits on a ``distributed`` cluster (needs dask);
 - :class:`BrdffitError`: raised by every failing call, with ``status``,
   ``status_name`` and the library's ``message``.
 
@@ -24,22 +28,33 @@ Example::
 import math
 
 from ._lib import DEFAULT_CAP, lib as _clib
+from . import image
+from .damping import DAMPING_POLICIES, DampingPolicy, PythonDamping
 from .errors import BrdffitError, Status, status_name, status_string
 from .fit import Fit, IterationInfo, METRICS, PIPELINES, STOP_REASONS
 from .grid import Grid, Weighting, default_axes
 from .model import JacobianReport, Model, ParamFlags, ParamInfo, ParamLayout
+from .optim import Optimizer
 
 __version__ = "0.1.0"
 
-__all__ = ["BrdffitError", "DEFAULT_CAP", "Fit", "Grid", "IterationInfo", "JacobianReport",
-           "METRICS", "Model", "PIPELINES", "ParamFlags", "ParamInfo", "ParamLayout",
-           "STOP_REASONS", "Status", "Weighting", "default_axes", "deg2rad",
-           "library_version", "rad2deg", "status_name", "status_string"]
+__all__ = ["BrdffitError", "DAMPING_POLICIES", "DEFAULT_CAP", "DampingPolicy", "Fit", "Grid",
+           "IterationInfo", "JacobianReport", "METRICS", "Model", "Optimizer", "PIPELINES",
+           "ParamFlags", "ParamInfo", "ParamLayout", "PythonDamping", "STOP_REASONS", "Status",
+           "Weighting", "default_axes", "deg2rad", "image", "library_path", "library_version",
+           "rad2deg", "status_name", "status_string"]
 
 
 def library_version():
     """The version string of the loaded C library, e.g. ``"0.1.0"``."""
     return _clib.brdffit_version_string().decode()
+
+
+def library_path():
+    """The file the C library was loaded from, as given to the loader: the
+    library installed with this package, ``BRDFFIT_LIBRARY``, or a name the
+    dynamic loader resolved."""
+    return _clib._name
 
 
 def deg2rad(degrees):

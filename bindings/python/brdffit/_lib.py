@@ -180,6 +180,11 @@ def _candidates():
     if env:
         return [env]
     names = []
+    try:  # written by `cmake --install`: the library installed with this package
+        from . import _install
+        names.append(_install.library_path())
+    except ImportError:
+        pass
     found = ctypes.util.find_library("brdffit")
     if found:
         names.append(found)
@@ -226,3 +231,85 @@ def bptr(array):
     if array is None:
         return None
     return array.ctypes.data_as(POINTER(c_ubyte))
+
+
+# ---- optim.h (damping policies, general optimizer), image.h, fit damping ----
+# Declared after the fit API above; used by optim.py and image.py.
+
+#: void (*init)(void *state, double *lambda, void *user)
+DAMPING_INIT_FN = CFUNCTYPE(None, c_void_p, POINTER(c_double), c_void_p)
+#: void (*accept / reject)(void *state, double rho, double *lambda, void *user)
+DAMPING_STEP_FN = CFUNCTYPE(None, c_void_p, c_double, POINTER(c_double), c_void_p)
+
+
+class Damping(Structure):
+    """struct brdffit_damping (optim.h)."""
+    _fields_ = [("struct_size", c_size_t), ("name", c_char_p), ("state_size", c_size_t),
+                ("init", DAMPING_INIT_FN), ("accept", DAMPING_STEP_FN),
+                ("reject", DAMPING_STEP_FN), ("user", c_void_p)]
+
+
+#: brdffit_residual_fn
+RESIDUAL_FN = CFUNCTYPE(c_int, POINTER(c_double), POINTER(c_double), POINTER(c_double),
+                        c_void_p)
+#: brdffit_normal_fn
+NORMAL_FN = CFUNCTYPE(c_int, POINTER(c_double), POINTER(c_double), POINTER(c_double),
+                      POINTER(c_double), c_void_p)
+
+
+class ImageOptions(Structure):
+    """struct brdffit_image_options (image.h)."""
+    _fields_ = [("struct_size", c_size_t), ("gain", c_double), ("difference_gain", c_double),
+                ("exposure", c_double), ("gamma", c_double), ("background", c_ubyte * 3),
+                ("missing", c_ubyte * 3), ("foreground", c_ubyte * 3), ("curve", c_ubyte * 3),
+                ("scale", c_size_t), ("block_columns", c_size_t), ("block_gap", c_size_t),
+                ("log_y", c_int)]
+
+
+_U8 = POINTER(c_ubyte)
+_SZ = POINTER(c_size_t)
+_DAMP = POINTER(Damping)
+_OPTS = POINTER(ImageOptions)
+_PROTOTYPES_OPTIM_IMAGE = {
+    "brdffit_damping_thesis": (_DAMP, []),
+    "brdffit_damping_marquardt": (_DAMP, []),
+    "brdffit_damping_nielsen": (_DAMP, []),
+    "brdffit_optimizer_create": (c_int, [_PP, c_size_t, _ALLOC, _E]),
+    "brdffit_optimizer_destroy": (None, [_P]),
+    "brdffit_optimizer_param_count": (c_size_t, [_P]),
+    "brdffit_optimizer_message": (c_char_p, [_P]),
+    "brdffit_optimizer_set_residuals": (c_int, [_P, c_size_t, RESIDUAL_FN, c_void_p]),
+    "brdffit_optimizer_set_normal": (c_int, [_P, c_size_t, NORMAL_FN, c_void_p]),
+    "brdffit_optimizer_set_damping": (c_int, [_P, _DAMP]),
+    "brdffit_optimizer_set": (c_int, [_P, c_int, c_double]),
+    "brdffit_optimizer_get": (c_int, [_P, c_int, _D]),
+    "brdffit_optimizer_set_bounds": (c_int, [_P, _D, _D]),
+    "brdffit_optimizer_set_fixed": (c_int, [_P, _U8]),
+    "brdffit_optimizer_set_callback": (c_int, [_P, ITERATION_FN, c_void_p]),
+    "brdffit_optimizer_cancel": (None, [_P]),
+    "brdffit_optimizer_run": (c_int, [_P, _D]),
+    "brdffit_optimizer_stop_reason": (c_int, [_P]),
+    "brdffit_optimizer_initial_cost": (c_double, [_P]),
+    "brdffit_optimizer_final_cost": (c_double, [_P]),
+    "brdffit_optimizer_iterations": (c_size_t, [_P]),
+    "brdffit_optimizer_evaluations": (c_size_t, [_P]),
+    "brdffit_optimizer_last_improvement": (c_size_t, [_P]),
+    "brdffit_optimizer_used_fallback": (c_int, [_P]),
+    "brdffit_optimizer_history": (c_size_t, [_P, _D, _D]),
+    "brdffit_optimizer_condition": (c_double, [_P]),
+    "brdffit_optimizer_covariance": (c_int, [_P, _D]),
+    "brdffit_optimizer_std_errors": (c_int, [_P, _D]),
+    "brdffit_fit_set_damping": (c_int, [_P, _DAMP]),
+    "brdffit_image_options_init": (None, [_OPTS]),
+    "brdffit_image_texture_size": (c_int, [_P, _OPTS, _SZ, _SZ, _E]),
+    "brdffit_image_texture": (c_int, [_U8, c_size_t, c_int, _P, _P, _D, _OPTS, _ALLOC, _E]),
+    "brdffit_image_sphere_measured": (c_int, [_U8, c_size_t, c_size_t, _P, c_double, c_double,
+                                              _OPTS, _ALLOC, _E]),
+    "brdffit_image_sphere_model": (c_int, [_U8, c_size_t, c_size_t, _P, _D, c_size_t,
+                                           c_double, c_double, _OPTS, _ALLOC, _E]),
+    "brdffit_image_plot": (c_int, [_U8, c_size_t, c_size_t, c_size_t, _D, c_size_t, _OPTS,
+                                   _E]),
+}
+for _name, (_restype, _argtypes) in _PROTOTYPES_OPTIM_IMAGE.items():
+    _fn = getattr(lib, _name)
+    _fn.restype, _fn.argtypes = _restype, _argtypes

@@ -402,3 +402,32 @@ class Fit(Handle):
         if self._closed:
             return "<brdffit.Fit (closed)>"
         return "<brdffit.Fit %s on %r>" % (self._model_name, self._grid)
+
+    # ---- damping (appended: see brdffit/damping.py) ---------------------------
+
+    def set_damping(self, policy):
+        """Use a damping policy for every LM run of the fit.
+
+        Args:
+            policy: a :class:`~brdffit.DampingPolicy` (also one written in
+                Python, :class:`~brdffit.PythonDamping`), a built-in name
+                (``"nielsen"``, ``"marquardt"``, ``"thesis"``), or None for
+                the default, ``"nielsen"``.
+
+        An exception raised by a Python policy cancels the fit and is
+        re-raised by :meth:`run`.
+        """
+        from .damping import PythonDamping, as_policy
+        policy = as_policy(policy)
+        self._check(lib.brdffit_fit_set_damping(
+            self._handle, None if policy is None else policy._c_policy()))
+        self._damping_policy = policy
+        if isinstance(policy, PythonDamping):
+            policy._on_error = self._damping_failed
+
+    def _damping_failed(self):
+        """A Python policy raised: keep its exception for run() and stop."""
+        exc = self._damping_policy._take_error()
+        if self._callback_error is None:
+            self._callback_error = exc
+        lib.brdffit_fit_cancel(self._handle)
