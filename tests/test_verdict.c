@@ -21,6 +21,20 @@ static brdffit_model *make_model(const char *name)
     return model;
 }
 
+/* A two-parameter user model (a shape, then a per-channel colour). */
+static brdffit_model *custom(const char *name, const brdffit_param_info *params,
+                             brdffit_model_eval_fn eval)
+{
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *model = NULL;
+    def.name = name;
+    def.n_params = 2;
+    def.params = params;
+    def.eval = eval;
+    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
+    return model;
+}
+
 static brdffit_grid *grid_of(const brdffit_model *model, const double values[][8],
                              const brdffit_axes *axes)
 {
@@ -124,14 +138,7 @@ static brdffit_model *power_model(double lower, double upper)
         {"k", 0, lower, upper, 1.0},
         {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
     };
-    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
-    brdffit_model *model = NULL;
-    def.name = "power";
-    def.n_params = 2;
-    def.params = params;
-    def.eval = power_eval;
-    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
-    return model;
+    return custom("power", params, power_eval);
 }
 
 static void test_shape_at_bound(void **state)
@@ -268,16 +275,10 @@ static void test_fresnel_valley(void **state)
         {"cs", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 400.0},
     };
     const double v[2][8] = {{0.995}, {400.0, 400.0, 400.0}};
-    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
-    brdffit_model *model = NULL;
+    brdffit_model *model = custom("valley", params, valley_eval);
     brdffit_grid *grid;
     brdffit_fit *fit;
     (void)state;
-    def.name = "valley";
-    def.n_params = 2;
-    def.params = params;
-    def.eval = valley_eval;
-    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
     grid = grid_of(model, v, NULL);
     assert_true(warnings_of(&fit, grid, model, BRDFFIT_PIPELINE_JOINT) &
                 BRDFFIT_WARN_FRESNEL_VALLEY);
@@ -311,16 +312,10 @@ static void test_stalled(void **state)
         {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
     };
     const double v[2][8] = {{1.0}, CD};
-    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
-    brdffit_model *model = NULL;
+    brdffit_model *model = custom("idle", params, idle_eval);
     brdffit_grid *grid;
     brdffit_fit *fit;
     (void)state;
-    def.name = "idle";
-    def.n_params = 2;
-    def.params = params;
-    def.eval = idle_eval;
-    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
     grid = grid_of(model, v, NULL);
     assert_true(warnings_of(&fit, grid, model, BRDFFIT_PIPELINE_JOINT) & BRDFFIT_WARN_STALLED);
     assert_int_equal(brdffit_fit_stop_reason(fit), BRDFFIT_STOP_STALLED);
