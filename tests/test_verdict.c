@@ -21,16 +21,57 @@ static brdffit_model *make_model(const char *name)
     return model;
 }
 
-/* A two-parameter user model (a shape, then a per-channel colour). */
+/* The user models of these tests: value = c f(k, n.v) per channel, one
+ * shape parameter k and one colour c, with f and its derivative in k given
+ * through the model's user pointer. */
+typedef struct shape_fn {
+    double (*f)(double k, double x);
+    double (*dk)(double k, double x);
+} shape_fn;
+
+static brdffit_status shape_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                 double *values, double *jac, void *user)
+{
+    const shape_fn *fn = user;
+    size_t s, c, n = b->n;
+    for (s = 0; s < n; s++)
+        for (c = 0; c < nc; c++) {
+            double f = fn->f(p[0], b->nv[s]);
+            values[c * n + s] = p[1 + c] * f;
+            if (jac != NULL) {
+                jac[c * n + s] = p[1 + c] * fn->dk(p[0], b->nv[s]);
+                jac[(nc + c) * n + s] = f;
+            }
+        }
+    return BRDFFIT_OK;
+}
+
+/* x^k: data made with k = 5 push a k bounded to [0.5, 2] onto 2. */
+static double power_f(double k, double x) { return pow(x, k); }
+static double power_dk(double k, double x) { return pow(x, k) * log(x); }
+static const shape_fn POWER = {power_f, power_dk};
+
+/* (1 - F0) x: every point with c (1 - F0) = 2 is optimal. */
+static double valley_f(double k, double x) { return (1.0 - k) * x; }
+static double valley_dk(double k, double x) { (void)k; return -x; }
+static const shape_fn VALLEY = {valley_f, valley_dk};
+
+/* x, whatever k: the data cannot tell k, the run stalls. */
+static double idle_f(double k, double x) { (void)k; return x; }
+static double idle_dk(double k, double x) { (void)k; (void)x; return 0.0; }
+static const shape_fn IDLE = {idle_f, idle_dk};
+
+/* A user model of shape `fn` with parameters k and a per-channel colour. */
 static brdffit_model *custom(const char *name, const brdffit_param_info *params,
-                             brdffit_model_eval_fn eval)
+                             const shape_fn *fn)
 {
     brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
     brdffit_model *model = NULL;
     def.name = name;
     def.n_params = 2;
     def.params = params;
-    def.eval = eval;
+    def.eval = shape_eval;
+    def.user = (void *)fn;
     assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
     return model;
 }
@@ -113,32 +154,13 @@ static void test_albedo_above_one(void **state)
     brdffit_model_destroy(model);
 }
 
-/* value = cd nv^k, k bounded to [0.5, 2]: data made with k = 5 push it to 2. */
-static brdffit_status power_eval(const brdffit_batch *b, const double *p, size_t nc,
-                                 double *values, double *jac, void *user)
-{
-    size_t s, c, n = b->n;
-    (void)user;
-    for (s = 0; s < n; s++) {
-        double e = pow(b->nv[s], p[0]);
-        for (c = 0; c < nc; c++) {
-            values[c * n + s] = p[1 + c] * e;
-            if (jac != NULL) {
-                jac[c * n + s] = p[1 + c] * e * log(b->nv[s]);
-                jac[(nc + c) * n + s] = e;
-            }
-        }
-    }
-    return BRDFFIT_OK;
-}
-
 static brdffit_model *power_model(double lower, double upper)
 {
     brdffit_param_info params[] = {
         {"k", 0, lower, upper, 1.0},
         {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
     };
-    return custom("power", params, power_eval);
+    return custom("power", params, &POWER);
 }
 
 static void test_shape_at_bound(void **state)
@@ -250,24 +272,6 @@ static void test_lobes_merged(void **state)
     brdffit_model_destroy(dual);
 }
 
-/* value = cs (1 - F0) nv: any point with cs (1 - F0) = 2 is optimal. */
-static brdffit_status valley_eval(const brdffit_batch *b, const double *p, size_t nc,
-                                  double *values, double *jac, void *user)
-{
-    size_t s, c, n = b->n;
-    (void)user;
-    for (s = 0; s < n; s++)
-        for (c = 0; c < nc; c++) {
-            double cs = p[1 + c];
-            values[c * n + s] = cs * (1.0 - p[0]) * b->nv[s];
-            if (jac != NULL) {
-                jac[c * n + s] = -cs * b->nv[s];
-                jac[(nc + c) * n + s] = (1.0 - p[0]) * b->nv[s];
-            }
-        }
-    return BRDFFIT_OK;
-}
-
 static void test_fresnel_valley(void **state)
 {
     const brdffit_param_info params[] = {
@@ -275,7 +279,7 @@ static void test_fresnel_valley(void **state)
         {"cs", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 400.0},
     };
     const double v[2][8] = {{0.995}, {400.0, 400.0, 400.0}};
-    brdffit_model *model = custom("valley", params, valley_eval);
+    brdffit_model *model = custom("valley", params, &VALLEY);
     brdffit_grid *grid;
     brdffit_fit *fit;
     (void)state;
@@ -288,23 +292,6 @@ static void test_fresnel_valley(void **state)
     brdffit_model_destroy(model);
 }
 
-/* value = cd nv, whatever k: the data cannot tell k, the run stalls. */
-static brdffit_status idle_eval(const brdffit_batch *b, const double *p, size_t nc,
-                               double *values, double *jac, void *user)
-{
-    size_t s, c, n = b->n;
-    (void)user;
-    for (s = 0; s < n; s++)
-        for (c = 0; c < nc; c++) {
-            values[c * n + s] = p[1 + c] * b->nv[s];
-            if (jac != NULL) {
-                jac[c * n + s] = 0.0;
-                jac[(nc + c) * n + s] = b->nv[s];
-            }
-        }
-    return BRDFFIT_OK;
-}
-
 static void test_stalled(void **state)
 {
     const brdffit_param_info params[] = {
@@ -312,7 +299,7 @@ static void test_stalled(void **state)
         {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
     };
     const double v[2][8] = {{1.0}, CD};
-    brdffit_model *model = custom("idle", params, idle_eval);
+    brdffit_model *model = custom("idle", params, &IDLE);
     brdffit_grid *grid;
     brdffit_fit *fit;
     (void)state;
