@@ -317,9 +317,60 @@ static void test_scattered_zero_weights(void **state)
     (void)state;
     /* only the first stored sample is active and its weight is 0 */
     assert_int_equal(brdffit_grid_weights(g, DEG(10.0), 1, w, &err), BRDFFIT_E_NO_DATA);
-    assert_non_null(strstr(err.message, "sum"));
+    assert_non_null(strstr(err.message, "weight"));
     assert_int_equal(brdffit_grid_weights(g, DEG(10.0), BRDFFIT_WEIGHT_COSINE, w, &err),
                      BRDFFIT_OK);
+    brdffit_grid_destroy(g);
+}
+
+/* Weights are finite for every grid the loaders accept: solid angles or
+ * given weights so small that their sum is subnormal, or so large that it
+ * overflows, are scaled before they are summed. */
+static void expect_normalised(const brdffit_grid *g, const double *want, double tol)
+{
+    size_t n = brdffit_grid_sample_count(g), s;
+    double w[8], sum = 0.0;
+    assert_true(n <= 8);
+    assert_int_equal(brdffit_grid_weights(g, DEG(90.0), BRDFFIT_WEIGHT_SOLID_ANGLE, w, NULL),
+                     BRDFFIT_OK);
+    for (s = 0; s < n; s++) {
+        assert_true(isfinite(w[s]) && w[s] >= 0.0);
+        if (want != NULL) assert_close(w[s], want[s], tol);
+        sum += w[s];
+    }
+    assert_close(sum, 1.0, 1e-15);
+}
+
+static void test_tiny_and_huge_weights(void **state)
+{
+    static const char csv[] = "theta_i,theta_o,phi_o,r\n0,0,0,0.1\n0,0,1e-320,0.1\n"
+                              "0,30,0,0.1\n0,30,1e-320,0.1\n";
+    static const double ti[2] = {0.1, 0.2}, p[2] = {0.0, 0.0}, v[2] = {1.0, 1.0};
+    static const double tiny[2] = {0.0, 1e-320}, huge[2] = {1e308, 1e308}, zero[2] = {0, 0};
+    static const double tiny_w[2] = {0.0, 1.0}, huge_w[2] = {0.5, 0.5};
+    brdffit_grid *g = NULL;
+    brdffit_error err;
+    double w[2];
+    (void)state;
+    assert_int_equal(brdffit_load_csv_buffer(&g, csv, sizeof csv - 1, NULL, &err), BRDFFIT_OK);
+    expect_normalised(g, NULL, 0.0);
+    brdffit_grid_destroy(g);
+    assert_int_equal(brdffit_grid_create_scattered(&g, 2, ti, p, ti, p, 1, v, NULL, tiny, NULL,
+                                                   NULL),
+                     BRDFFIT_OK);
+    expect_normalised(g, tiny_w, 0.0);
+    brdffit_grid_destroy(g);
+    assert_int_equal(brdffit_grid_create_scattered(&g, 2, ti, p, ti, p, 1, v, NULL, huge, NULL,
+                                                   NULL),
+                     BRDFFIT_OK);
+    expect_normalised(g, huge_w, 0.0);
+    brdffit_grid_destroy(g);
+    assert_int_equal(brdffit_grid_create_scattered(&g, 2, ti, p, ti, p, 1, v, NULL, zero, NULL,
+                                                   NULL),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_grid_weights(g, DEG(90.0), BRDFFIT_WEIGHT_SOLID_ANGLE, w, &err),
+                     BRDFFIT_E_NO_DATA);
+    assert_non_null(strstr(err.message, "weight"));
     brdffit_grid_destroy(g);
 }
 
@@ -455,6 +506,7 @@ int main(void)
         cmocka_unit_test(test_cap_below_first_axis_value),
         cmocka_unit_test(test_scattered_weights),
         cmocka_unit_test(test_scattered_zero_weights),
+        cmocka_unit_test(test_tiny_and_huge_weights),
         cmocka_unit_test(test_weight_plan),
         cmocka_unit_test(test_weight_plan_chunk_layout),
         cmocka_unit_test(test_weights_out_of_memory),

@@ -1,10 +1,13 @@
 /* The CSV loader: both forms, round trips through text and files, every
  * error with its status and where it points, allocation failures. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, symlink */
 #include <locale.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "grid_fixtures.h"
 #include "test_support.h"
@@ -467,6 +470,43 @@ static void test_file_errors(void **state)
     fx_tempdir_remove(&dir, names, 1);
 }
 
+/* Files that are not regular: refused at once (a FIFO without a writer
+ * must not block), each with its reason; never called an "empty file". */
+static void expect_refused(const char *path, const char *reason)
+{
+    brdffit_grid *g = (brdffit_grid *)&g;
+    brdffit_error err;
+    assert_int_equal(brdffit_load_csv(&g, path, NULL, &err), BRDFFIT_E_IO);
+    assert_null(g);
+    assert_non_null(strstr(err.message, path));
+    assert_non_null(strstr(err.message, reason));
+    assert_null(strstr(err.message, "empty file"));
+    g = (brdffit_grid *)&g;
+    assert_int_equal(brdffit_load_merl(&g, path, NULL, NULL, &err), BRDFFIT_E_IO);
+    assert_non_null(strstr(err.message, reason));
+}
+
+static void test_special_files(void **state)
+{
+    static const char *const names[] = {"fifo", "loop-a", "loop-b"};
+    fx_tempdir dir;
+    char fifo[512], a[512], b[512];
+    (void)state;
+    assert_true(fx_tempdir_make(&dir));
+    fx_tempdir_path(&dir, names[0], fifo, sizeof fifo);
+    fx_tempdir_path(&dir, names[1], a, sizeof a);
+    fx_tempdir_path(&dir, names[2], b, sizeof b);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    expect_refused(fifo, "FIFO");
+    assert_int_equal(symlink(b, a), 0);
+    assert_int_equal(symlink(a, b), 0);
+    expect_refused(a, "symbolic links");
+    expect_refused(dir.path, "directory");
+    if (access("/dev/zero", R_OK) == 0) expect_refused("/dev/zero", "character device");
+    if (access("/proc/self/status", R_OK) == 0) expect_refused("/proc/self/status", "size of 0");
+    fx_tempdir_remove(&dir, names, 3);
+}
+
 static void test_null_arguments(void **state)
 {
     brdffit_grid *g = (brdffit_grid *)&g;
@@ -621,6 +661,7 @@ int main(void)
         cmocka_unit_test(test_any_row_order),
         cmocka_unit_test(test_sample_files),
         cmocka_unit_test(test_file_errors),
+        cmocka_unit_test(test_special_files),
         cmocka_unit_test(test_null_arguments),
         cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_weight_column),

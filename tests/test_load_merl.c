@@ -478,6 +478,34 @@ static void test_allocation_failures(void **state)
     free(img);
 }
 
+/* Bad axes are refused before the file is opened: with a missing file the
+ * call still reports the axes, with the status brdffit_grid_create_regular()
+ * gives them. */
+static void test_axes_checked_before_reading(void **state)
+{
+    static const double ok[2] = {0.0, 0.5}, outside[2] = {0.0, 2.0}, repeated[2] = {0.5, 0.5};
+    fixture *f = *state;
+    brdffit_axes axes = {ok, 2, ok, 2, ok, 2};
+    brdffit_grid *g = (brdffit_grid *)&g;
+    brdffit_error err;
+    char path[512];
+    fx_tempdir_path(&f->dir, "absent.binary", path, sizeof path);
+    assert_int_equal(brdffit_load_merl(&g, path, &axes, NULL, &err), BRDFFIT_E_IO);
+    axes.theta_o = outside;
+    assert_int_equal(brdffit_load_merl(&g, path, &axes, NULL, &err), BRDFFIT_E_RANGE);
+    assert_null(g);
+    assert_non_null(strstr(err.message, "theta_o[1]"));
+    axes.theta_o = ok;
+    axes.phi_o = repeated;
+    assert_int_equal(brdffit_load_merl(&g, path, &axes, NULL, &err), BRDFFIT_E_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "phi_o is not strictly increasing"));
+    axes.phi_o = ok;
+    axes.theta_i = outside;
+    assert_int_equal(brdffit_load_merl_buffer(&g, f->image, 3, &axes, NULL, &err),
+                     BRDFFIT_E_RANGE);
+    assert_non_null(strstr(err.message, "theta_i[1]"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -489,6 +517,7 @@ int main(void)
         cmocka_unit_test(test_no_data),
         cmocka_unit_test(test_file_errors),
         cmocka_unit_test(test_null_arguments),
+        cmocka_unit_test(test_axes_checked_before_reading),
         cmocka_unit_test(test_allocation_failures),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -9,6 +9,7 @@
  * until the test ends, so reading a destroyed handle is well defined (the
  * library marks it dead before it frees it) and AddressSanitizer-clean. */
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1269,7 +1270,7 @@ static void test_image_options_misuse(void **state)
         expect_bad_options(g, &o);          \
     } while (0)
     BAD_OPTION(struct_size, 0);
-    BAD_OPTION(struct_size, sizeof o - 1);
+    BAD_OPTION(struct_size, offsetof(brdffit_image_options, log_y));
     BAD_OPTION(gain, NAN);
     BAD_OPTION(gain, HUGE_VAL);
     BAD_OPTION(gain, -1.0);
@@ -1283,6 +1284,80 @@ static void test_image_options_misuse(void **state)
     BAD_OPTION(block_columns, 0);
     BAD_OPTION(block_gap, 65);
 #undef BAD_OPTION
+    brdffit_grid_destroy(g);
+}
+
+/* Versioned structs from an older or a newer header: a struct of the first
+ * version's size and one with fields appended (a newer header) are both
+ * read as documented; one byte less than the first version is refused. */
+struct newer_options {
+    brdffit_image_options o;
+    double appended[4];
+};
+
+struct newer_damping {
+    brdffit_damping d;
+    void *appended[2];
+};
+
+static void texture_of(const brdffit_grid *g, const brdffit_image_options *o, brdffit_status want,
+                       unsigned char *px)
+{
+    size_t w = 0, h = 0;
+    assert_int_equal(brdffit_image_texture_size(g, o, &w, &h, NULL), want);
+    if (want == BRDFFIT_OK)
+        assert_int_equal(brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MEASURED, g, NULL, NULL,
+                                               o, NULL, NULL),
+                         want);
+}
+
+static void test_versioned_struct_sizes(void **state)
+{
+    const size_t v1_options = offsetof(brdffit_image_options, log_y) + sizeof(int);
+    const size_t v1_damping = BRDFFIT_DAMPING_SIZE_V1;
+    brdffit_grid *g = small_grid(3, NULL);
+    unsigned char ref[3 * 64 * 64], px[3 * 64 * 64];
+    struct newer_options n;
+    struct newer_damping nd;
+    brdffit_optimizer *opt = NULL;
+    brdffit_fit *fit = NULL;
+    brdffit_model *m = NULL;
+    (void)state;
+    memset(ref, 0, sizeof ref);
+    memset(px, 0, sizeof px);
+    brdffit_image_options_init(&n.o);
+    n.o.gain = 0.5;
+    texture_of(g, &n.o, BRDFFIT_OK, ref);
+    memset(n.appended, 0xff, sizeof n.appended);
+    n.o.struct_size = sizeof n; /* newer header: accepted, the tail ignored */
+    texture_of(g, &n.o, BRDFFIT_OK, px);
+    assert_memory_equal(px, ref, sizeof ref);
+    n.o.struct_size = v1_options; /* first version, without tail padding */
+    texture_of(g, &n.o, BRDFFIT_OK, px);
+    assert_memory_equal(px, ref, sizeof ref);
+    n.o.struct_size = v1_options - 1;
+    texture_of(g, &n.o, BRDFFIT_E_INVALID_ARGUMENT, px);
+    /* damping: the optimizer and the fit */
+    memset(&nd, 0, sizeof nd);
+    nd.d = *brdffit_damping_thesis();
+    nd.d.struct_size = sizeof nd;
+    assert_int_equal(brdffit_optimizer_create(&opt, 2, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set_damping(opt, &nd.d), BRDFFIT_OK);
+    nd.d.struct_size = v1_damping;
+    assert_int_equal(brdffit_optimizer_set_damping(opt, &nd.d), BRDFFIT_OK);
+    nd.d.struct_size = v1_damping - 1;
+    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt, brdffit_optimizer_set_damping(opt, &nd.d));
+    assert_int_equal(brdffit_model_create(&m, "lambert", NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    nd.d.struct_size = sizeof nd;
+    assert_int_equal(brdffit_fit_set_damping(fit, &nd.d), BRDFFIT_OK);
+    nd.d.struct_size = v1_damping;
+    assert_int_equal(brdffit_fit_set_damping(fit, &nd.d), BRDFFIT_OK);
+    nd.d.struct_size = v1_damping - 1;
+    EXPECT_FIT(BRDFFIT_E_INVALID_ARGUMENT, fit, brdffit_fit_set_damping(fit, &nd.d));
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    brdffit_optimizer_destroy(opt);
     brdffit_grid_destroy(g);
 }
 
@@ -1406,6 +1481,7 @@ int main(void)
         cmocka_unit_test(test_fit_destroyed_handles),
         cmocka_unit_test(test_image_options_misuse),
         cmocka_unit_test(test_image_functions_misuse),
+        cmocka_unit_test(test_versioned_struct_sizes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

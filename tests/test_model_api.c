@@ -2,6 +2,7 @@
  * user models through brdffit_model_def (creation, validation, evaluation,
  * Jacobian check, destroy callback), evaluation errors and allocation
  * failures. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -536,6 +537,67 @@ static void test_nonfinite_derivative(void **state)
     brdffit_model_destroy(m);
 }
 
+/* Near DBL_MAX the check's own steps may overflow: a stencil point beyond
+ * DBL_MAX, or values that overflow only at a stencil point, move the check
+ * to a one-sided stencil instead of blaming the model. f = 4 x with the
+ * derivative *user (4 is right). */
+static brdffit_status linear_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                  double *values, double *jac, void *user)
+{
+    size_t i;
+    for (i = 0; i < nc * b->n; i++) {
+        values[i] = 4.0 * p[0];
+        if (jac != NULL) jac[i] = *(const double *)user;
+    }
+    return BRDFFIT_OK;
+}
+
+static void check_linear_at(double x, double slope, double want_lo, double want_hi)
+{
+    const brdffit_param_info param = {"x", 0, 0.0, HUGE_VAL, 1.0};
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *m = NULL;
+    brdffit_grid *grid = mf_default_grid(1);
+    brdffit_jacobian_report r;
+    brdffit_error err;
+    def.name = "four-x";
+    def.n_params = 1;
+    def.params = &param;
+    def.eval = linear_eval;
+    def.user = &slope;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    memset(&r, 0, sizeof r);
+    r.struct_size = sizeof r;
+    if (brdffit_model_check_jacobian(m, grid, &x, &r, &err) != BRDFFIT_OK)
+        fail_msg("x = %g: %s", x, err.message);
+    if (!(r.worst_error >= want_lo && r.worst_error <= want_hi))
+        fail_msg("x = %g: worst error %g outside [%g, %g]", x, r.worst_error, want_lo, want_hi);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(m);
+}
+
+static void test_jacobian_check_near_dbl_max(void **state)
+{
+    const double edge = DBL_MAX / 4.0 * (1.0 - 1e-7); /* 4 (x + h) overflows, 4 x not */
+    brdffit_model *m = NULL;
+    brdffit_grid *grid = mf_default_grid(3);
+    brdffit_jacobian_report r;
+    brdffit_error err;
+    double x[3] = {DBL_MAX, DBL_MAX, 1e308};
+    (void)state;
+    check_linear_at(edge, 4.0, 0.0, 1e-6);
+    check_linear_at(edge, 8.0, 0.99, 1.01); /* a wrong derivative is still found there */
+    check_linear_at(DBL_MAX / 4.0, 4.0, 0.0, 1e-6);
+    assert_int_equal(brdffit_model_create(&m, "lambert", NULL, NULL), BRDFFIT_OK);
+    memset(&r, 0, sizeof r);
+    r.struct_size = sizeof r;
+    if (brdffit_model_check_jacobian(m, grid, x, &r, &err) != BRDFFIT_OK)
+        fail_msg("lambert at cd = DBL_MAX: %s", err.message);
+    assert_report_below(&r, 1e-6);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(m);
+}
+
 /* ---- create_custom validation ------------------------------------------------ */
 
 typedef void (*def_mutator)(brdffit_model_def *def, brdffit_param_info *params);
@@ -1000,6 +1062,7 @@ int main(void)
         cmocka_unit_test(test_jacobian_check_degenerate_bounds),
         cmocka_unit_test(test_user_model_failures),
         cmocka_unit_test(test_nonfinite_derivative),
+        cmocka_unit_test(test_jacobian_check_near_dbl_max),
         cmocka_unit_test(test_create_custom_validation),
         cmocka_unit_test(test_create_custom_arguments),
         cmocka_unit_test(test_create_custom_copies),

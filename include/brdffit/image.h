@@ -50,11 +50,18 @@
  *        change fields. Fields are only ever appended; @c struct_size tells
  *        the library which exist.
  *
+ * The library accepts any @c struct_size from the size of the first version
+ * (everything up to and including @c log_y) upwards: a program built
+ * against a newer header passes a larger struct, whose fields unknown to
+ * this library are ignored; fields the caller's size does not cover keep
+ * their defaults. A smaller size is refused with
+ * ::BRDFFIT_E_INVALID_ARGUMENT.
+ *
  * Each field says which pictures use it; the others ignore it. Passing
  * NULL instead of options selects the defaults.
  */
 typedef struct brdffit_image_options {
-    /** sizeof(brdffit_image_options). */
+    /** sizeof(brdffit_image_options) of the caller's header. */
     size_t struct_size;
     /** Textures: measured and model values are multiplied by it before
      *  encoding; finite, >= 0; default 3. */

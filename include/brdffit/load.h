@@ -11,6 +11,12 @@
  * through the given allocator; memory stays proportional to the input (no
  * allocation is sized by an unchecked number from the file). A file is
  * read whole, after its size has been checked.
+ *
+ * Only regular files are read (symbolic links to them are followed): a
+ * FIFO, a device, a socket or a directory gives ::BRDFFIT_E_IO at once
+ * (a FIFO is never waited on), and so does a file that reports a size of 0
+ * but has content (as files of /proc do). An ::BRDFFIT_E_IO message names
+ * the file and the reason (e.g. "too many levels of symbolic links").
  */
 #ifndef BRDFFIT_LOAD_H
 #define BRDFFIT_LOAD_H

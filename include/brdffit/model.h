@@ -330,9 +330,12 @@ BRDFFIT_API brdffit_status brdffit_model_eval_angles(const brdffit_model *model,
  * when x - h and x + h lie within the parameter's bounds; near a bound it
  * is the second-order one-sided difference on the side with room for two
  * steps, (-3 f(x) + 4 f(x+h) - f(x+2h)) / 2h or its mirror image, so the
- * model is never evaluated outside its bounds. An entry whose bounds leave
- * room for neither is not checked. A per-channel entry is compared on its
- * own channel only.
+ * model is never evaluated outside its bounds. Near DBL_MAX a stencil point
+ * that would overflow counts as outside the bounds, and a stencil at whose
+ * points the model's values overflow to infinity (while they are finite at
+ * x) gives way to the next one; such overflow of the check's own steps is
+ * never reported as the model's fault. An entry that no stencil can check
+ * is not checked. A per-channel entry is compared on its own channel only.
  *
  * A numeric derivative is only as exact as the values it is made from: it
  * carries a rounding error of about r = 16 eps sum|w_i f_i| / 2h (eps the

@@ -98,9 +98,15 @@ typedef brdffit_status (*brdffit_normal_fn)(const double *x, double *cost, doubl
  * scalings. When @c reject does not raise lambda (a policy at its cap),
  * the optimizer halves the next step itself, so every iteration tries a
  * new point and the run ends.
+ *
+ * A versioned struct: fields are only ever appended. The optimizer and the
+ * fit accept any @c struct_size from the size of the first version
+ * (everything up to and including @c user) upwards, so a program built
+ * against a newer header keeps working (fields unknown to this library are
+ * ignored); a smaller size is refused with ::BRDFFIT_E_INVALID_ARGUMENT.
  */
 typedef struct brdffit_damping {
-    size_t struct_size; /**< sizeof(brdffit_damping). */
+    size_t struct_size; /**< sizeof(brdffit_damping) of the caller's header. */
     const char *name;   /**< Short name, for reports. */
     size_t state_size;  /**< Bytes of per-run state; may be 0. */
     void (*init)(void *state, double *lambda, void *user);              /**< Start a run. */
@@ -108,6 +114,11 @@ typedef struct brdffit_damping {
     void (*reject)(void *state, double rho, double *lambda, void *user); /**< After a rejected step. */
     void *user;         /**< Passed last to the callbacks. */
 } brdffit_damping;
+
+/** @brief The @c struct_size of the first version of ::brdffit_damping
+ *         (everything up to and including @c user): the smallest size the
+ *         optimizer and the fit accept. Fixed forever. */
+#define BRDFFIT_DAMPING_SIZE_V1 (offsetof(brdffit_damping, user) + sizeof(void *))
 
 /** @brief Static initialiser for ::brdffit_damping. */
 #define BRDFFIT_DAMPING_INIT { sizeof(brdffit_damping), NULL, 0, NULL, NULL, NULL, NULL }

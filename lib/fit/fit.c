@@ -175,11 +175,16 @@ brdffit_status brdffit_fit_set_damping(brdffit_fit *fit, const brdffit_damping *
 {
     BF_CHECK_FIT(fit);
     if (policy == NULL) policy = brdffit_damping_nielsen();
-    if (policy->struct_size < sizeof(brdffit_damping) || policy->init == NULL ||
+    /* Any size from the first version's up (a newer header's larger struct
+     * included); fields the caller's size lacks keep the built-in's. */
+    if (policy->struct_size < BRDFFIT_DAMPING_SIZE_V1 || policy->init == NULL ||
         policy->accept == NULL || policy->reject == NULL)
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT,
                         "damping policy needs struct_size, init, accept and reject");
-    fit->damping = *policy;
+    fit->damping = *brdffit_damping_nielsen();
+    memcpy(&fit->damping, policy,
+           policy->struct_size < sizeof fit->damping ? policy->struct_size : sizeof fit->damping);
+    fit->damping.struct_size = sizeof fit->damping;
     return BRDFFIT_OK;
 }
 

@@ -42,11 +42,16 @@ size_t bf_grid_sample_mean(const brdffit_grid *g, size_t s, double *mean)
         n++;
     }
     if (n > 0 && !isfinite(sum)) { /* overflow: average the scaled values */
+        double top = 0.0;
         sum = 0.0;
         for (c = 0; c < g->n_channels; c++)
-            if (g->missing == NULL || !g->missing[c * g->n_samples + s])
+            if (g->missing == NULL || !g->missing[c * g->n_samples + s]) {
                 sum += g->values[c * g->n_samples + s] / (double)n;
-        *mean = sum;
+                top = fmax(top, g->values[c * g->n_samples + s]);
+            }
+        /* values near DBL_MAX: the rounded quotients may sum past it; the
+         * mean never lies above the largest value */
+        *mean = fmin(sum, top);
         return n;
     }
     *mean = n > 0 ? sum / (double)n : 0.0;

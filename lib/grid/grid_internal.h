@@ -57,6 +57,7 @@ typedef struct bf_weight_plan {
     size_t n_chunks;
     size_t n_active;  /* active samples */
     double scale;     /* normalisation factor */
+    double divisor;   /* scattered given weights are divided by it first (1 or their largest) */
     unsigned flags;
     /* regular grids */
     size_t n_ti_act, n_to_act, chunks_per_ti;

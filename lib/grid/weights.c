@@ -1,5 +1,6 @@
 /* Residual weights (docs/definitions.md, Weights, eq. 4.25) and the angle cap: the
  * streaming weight plan and brdffit_grid_weights() built on it. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -90,6 +91,18 @@ static double regular_factors(bf_weight_plan *p, double cap)
     return sum_to * sum_po;
 }
 
+/* Divides the n factors by their largest and returns their new sum (>= 1
+ * when any factor is > 0), so that 1 / sum cannot overflow. */
+static double rescale(double *w, size_t n)
+{
+    double top = 0.0, sum = 0.0;
+    size_t j;
+    for (j = 0; j < n; j++) top = fmax(top, w[j]);
+    if (!(top > 0.0)) return 0.0;
+    for (j = 0; j < n; j++) sum += w[j] /= top;
+    return sum;
+}
+
 static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_allocator *a,
                                    brdffit_error *err)
 {
@@ -107,9 +120,14 @@ static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_
     p->w_po = p->w_to + p->n_to_act;
     sum = regular_factors(p, cap);
     if (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) {
+        /* Cells so small that the total is subnormal (1 / sum would
+         * overflow): scale each axis's factors to a largest of 1 first. */
+        if (!(sum >= DBL_MIN))
+            sum = rescale(p->w_to, p->n_to_act) * rescale(p->w_po, n_po);
         if (!(sum > 0.0))
             return bf_fail(err, BRDFFIT_E_NO_DATA,
-                           "the view cells within the cap of %g rad have no solid angle", cap);
+                           "the view cells within the cap of %g rad have no solid angle (the "
+                           "theta_o or phi_o axis values are too close together)", cap);
         p->scale = 1.0 / sum;
     }
     row = p->n_to_act * n_po;
@@ -146,14 +164,21 @@ static brdffit_status plan_scattered(bf_weight_plan *p, double cap, brdffit_erro
     if (p->n_active == 0)
         return bf_fail(err, BRDFFIT_E_NO_DATA, "no sample lies within the cap of %g rad", cap);
     p->n_chunks = (p->n_active + BF_CHUNK - 1) / BF_CHUNK;
-    if (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) {
-        double sum = (double)p->n_active;
-        if (g->sample_weight != NULL)
-            for (s = 0, sum = 0.0; s < p->n_active; s++) sum += g->sample_weight[s];
-        if (!(sum > 0.0) || !isfinite(sum))
-            return bf_fail(err, BRDFFIT_E_NO_DATA,
-                           "the sample weights within the cap of %g rad sum to %g", cap, sum);
+    if ((p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) && g->sample_weight != NULL) {
+        double sum = 0.0, top = 0.0;
+        for (s = 0; s < p->n_active; s++) sum += g->sample_weight[s];
+        if (!(sum >= DBL_MIN && sum <= DBL_MAX)) {
+            /* Subnormal or overflowing: sum the weights divided by the largest. */
+            for (s = 0; s < p->n_active; s++) top = fmax(top, g->sample_weight[s]);
+            if (!(top > 0.0))
+                return bf_fail(err, BRDFFIT_E_NO_DATA,
+                               "every sample weight within the cap of %g rad is 0", cap);
+            for (s = 0, sum = 0.0; s < p->n_active; s++) sum += g->sample_weight[s] / top;
+            p->divisor = top;
+        }
         p->scale = 1.0 / sum;
+    } else if (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) {
+        p->scale = 1.0 / (double)p->n_active;
     }
     return BRDFFIT_OK;
 }
@@ -169,7 +194,8 @@ static void chunk_scattered(const bf_weight_plan *p, size_t index, size_t *first
     *first = start;
     *count = n;
     for (t = 0; t < n; t++)
-        weights[t] = solid ? (g->sample_weight != NULL ? g->sample_weight[start + t] : 1.0) * p->scale
+        weights[t] = solid ? (g->sample_weight != NULL ? g->sample_weight[start + t] / p->divisor
+                                                       : 1.0) * p->scale
                            : 1.0;
     if (cosine)
         for (t = 0; t < n; t++) {
@@ -195,6 +221,7 @@ brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, dou
     p->grid = g;
     p->flags = flags;
     p->scale = 1.0;
+    p->divisor = 1.0;
     st = g->kind == BRDFFIT_GRID_REGULAR ? plan_regular(p, cap, a, err)
                                          : plan_scattered(p, cap, err);
     if (st != BRDFFIT_OK) bf_weight_plan_free(p, a);

@@ -1,12 +1,15 @@
 /* Options of the picture functions, colour encoding and buffer helpers. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "core/core.h"
 #include "image/image_internal.h"
 
-/* Every field of the first version of the options struct is read. */
-#define BF_IMAGE_OPTIONS_V1_SIZE sizeof(brdffit_image_options)
+/* The size of the first version of the options struct (frozen: fields are
+ * only appended). A caller built against a newer header passes a larger
+ * size; the fields this library does not know are ignored. */
+#define BF_IMAGE_OPTIONS_V1_SIZE (offsetof(brdffit_image_options, log_y) + sizeof(int))
 
 void brdffit_image_options_init(brdffit_image_options *opts)
 {
@@ -52,12 +55,15 @@ brdffit_status bf_image_options(brdffit_image_options *out, const brdffit_image_
 {
     brdffit_image_options_init(out);
     if (in == NULL) return BRDFFIT_OK;
-    if (in->struct_size != BF_IMAGE_OPTIONS_V1_SIZE)
+    if (in->struct_size < BF_IMAGE_OPTIONS_V1_SIZE)
         return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT,
-                       "image options: unknown struct_size %zu (expected %zu); initialise "
+                       "image options: struct_size %zu is too small (at least %zu); initialise "
                        "with BRDFFIT_IMAGE_OPTIONS_INIT",
-                       in->struct_size, BF_IMAGE_OPTIONS_V1_SIZE);
-    memcpy(out, in, BF_IMAGE_OPTIONS_V1_SIZE);
+                       in->struct_size, (size_t)BF_IMAGE_OPTIONS_V1_SIZE);
+    /* Only the fields both sides know; a later field the caller's struct
+     * lacks keeps its default. */
+    memcpy(out, in, in->struct_size < sizeof *out ? in->struct_size : sizeof *out);
+    out->struct_size = sizeof *out;
     BF_RETURN_IF_ERROR(check_gains(out, err));
     return check_layout(out, err);
 }

@@ -300,7 +300,25 @@ static int resample(const unsigned char *data, const brdffit_axes *axes, merl_ar
     return any;
 }
 
-/* Sizes and ranges of the axes, checked before any allocation. */
+/* One axis as brdffit_grid_create_regular() checks it (same statuses), so
+ * that bad axes are refused before the file is opened. */
+static brdffit_status check_axis_values(const double *x, size_t n, const char *name, double hi,
+                                        brdffit_error *err)
+{
+    size_t k;
+    for (k = 0; k < n; k++) {
+        if (!(x[k] >= 0.0 && x[k] <= hi))
+            return bf_fail(err, BRDFFIT_E_RANGE, "%s[%zu] = %g is outside [0, %.17g]", name, k,
+                           x[k], hi);
+        if (k > 0 && !(x[k] > x[k - 1]))
+            return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT,
+                           "%s is not strictly increasing at index %zu (%.17g after %.17g)", name,
+                           k, x[k], x[k - 1]);
+    }
+    return BRDFFIT_OK;
+}
+
+/* Sizes, ranges and order of the axes, checked before any allocation. */
 static brdffit_status check_axes(const brdffit_axes *axes, size_t *n_samples, brdffit_error *err)
 {
     size_t n;
@@ -311,6 +329,11 @@ static brdffit_status check_axes(const brdffit_axes *axes, size_t *n_samples, br
         n > BF_LOAD_MAX_VALUES / 3)
         return bf_fail(err, BRDFFIT_E_TOO_LARGE, "axes of %zu x %zu x %zu are too large",
                        axes->n_theta_i, axes->n_theta_o, axes->n_phi_o);
+    BF_RETURN_IF_ERROR(check_axis_values(axes->theta_i, axes->n_theta_i, "theta_i",
+                                         BF_HALF_PI, err));
+    BF_RETURN_IF_ERROR(check_axis_values(axes->theta_o, axes->n_theta_o, "theta_o",
+                                         BF_HALF_PI, err));
+    BF_RETURN_IF_ERROR(check_axis_values(axes->phi_o, axes->n_phi_o, "phi_o", BF_PI, err));
     *n_samples = n;
     return BRDFFIT_OK;
 }

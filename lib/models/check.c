@@ -21,18 +21,8 @@
  * rounding bound of a numeric derivative is BF_ROUNDING sum |w_i f_i| / 2h. */
 #define BF_ROUNDING (16.0 * DBL_EPSILON)
 
-/* The finite-difference stencil of one vector entry. */
-typedef enum stencil_kind {
-    STENCIL_SKIP,
-    STENCIL_CENTRAL,
-    STENCIL_FORWARD,
-    STENCIL_BACKWARD
-} stencil_kind;
-
-typedef struct stencil {
-    stencil_kind kind;
-    double h;
-} stencil;
+/* The finite-difference stencils, in the order they are tried. */
+typedef enum stencil_kind { STENCIL_CENTRAL, STENCIL_FORWARD, STENCIL_BACKWARD } stencil_kind;
 
 typedef struct jc_work {
     const brdffit_model *m;
@@ -52,20 +42,13 @@ typedef struct jc_work {
 
 /* Central differences with h = 1e-6 max(|x|, 1e-3) when x +- h lie within
  * the bounds; otherwise the second-order one-sided stencil on the side that
- * has room for two steps; no check when neither side has. */
-static stencil choose_stencil(double x, const brdffit_param_info *p)
+ * has room for two steps; no check when neither side has. A stencil point
+ * that overflows to infinity counts as outside the bounds. */
+static int stencil_fits(stencil_kind kind, double x, double h, const brdffit_param_info *p)
 {
-    stencil st;
-    st.h = 1e-6 * fmax(fabs(x), 1e-3);
-    if (x - st.h >= p->lower && x + st.h <= p->upper)
-        st.kind = STENCIL_CENTRAL;
-    else if (x + 2.0 * st.h <= p->upper)
-        st.kind = STENCIL_FORWARD;
-    else if (x - 2.0 * st.h >= p->lower)
-        st.kind = STENCIL_BACKWARD;
-    else
-        st.kind = STENCIL_SKIP;
-    return st;
+    const double lo = kind == STENCIL_CENTRAL ? x - h : kind == STENCIL_FORWARD ? x : x - 2.0 * h;
+    const double hi = kind == STENCIL_CENTRAL ? x + h : kind == STENCIL_FORWARD ? x + 2.0 * h : x;
+    return isfinite(lo) && isfinite(hi) && lo >= p->lower && hi <= p->upper;
 }
 
 /* Values of samples [first, first + count) at w->x into out (and the
@@ -80,43 +63,74 @@ static brdffit_status eval_chunk(jc_work *w, size_t first, size_t count, double 
     return bf_model_check_outputs(w->m, count, w->nc, out, jac, first, w->err);
 }
 
-/* Values with entry j moved to x_j + delta. */
+/* Values with entry j moved to x_j + delta. Infinite values there (and no
+ * NaN) set *over: the step left the model's range of finite values, which
+ * is the check's problem, not the model's. */
 static brdffit_status eval_shifted(jc_work *w, size_t j, double delta, size_t first, size_t count,
-                                   double *out)
+                                   double *out, int *over)
 {
     const double x = w->x[j];
+    const size_t n = w->nc * count;
+    brdffit_batch batch;
     brdffit_status st;
+    size_t i;
     w->x[j] = x + delta;
-    st = eval_chunk(w, first, count, out, 0);
+    bf_geometry_batch(&w->grid->geo, first, count, &batch);
+    st = bf_model_eval(w->m, &batch, w->x, w->nc, out, NULL, w->err);
     w->x[j] = x;
-    return st;
+    BF_RETURN_IF_ERROR(st);
+    for (i = 0; i < n && !isnan(out[i]); i++) *over |= isinf(out[i]);
+    if (i == n && *over) return BRDFFIT_OK;
+    *over = 0;
+    return bf_model_check_outputs(w->m, count, w->nc, out, NULL, first, w->err);
 }
 
-/* w->num = numeric derivative of every value of the chunk by entry j
- * (w->f0 must hold the values at x). */
-static brdffit_status numeric_entry(jc_work *w, size_t j, stencil st, size_t first, size_t count)
+/* Numeric derivative and rounding bound of value i from the stencil's
+ * values; values near DBL_MAX are divided by 2h before they are combined.
+ * Returns 0 when the derivative is beyond the range of doubles. */
+static int difference(jc_work *w, stencil_kind kind, double h, size_t i)
 {
-    const size_t n = w->nc * count;
-    const double h = st.h, r = BF_ROUNDING / (2.0 * h);
-    const double *f0 = w->f0, *fa = w->fa, *fb = w->fb;
-    size_t i;
-    if (st.kind == STENCIL_CENTRAL) {
-        BF_RETURN_IF_ERROR(eval_shifted(w, j, h, first, count, w->fa));
-        BF_RETURN_IF_ERROR(eval_shifted(w, j, -h, first, count, w->fb));
-        for (i = 0; i < n; i++) {
-            w->num[i] = (fa[i] - fb[i]) / (2.0 * h);
-            w->rnd[i] = r * (fabs(fa[i]) + fabs(fb[i]));
+    const double a = w->fa[i], b = w->fb[i], z = w->f0[i], s = 2.0 * h;
+    const double sign = kind == STENCIL_BACKWARD ? -1.0 : 1.0;
+    if (kind == STENCIL_CENTRAL) {
+        w->num[i] = (a - b) / s;
+        w->rnd[i] = BF_ROUNDING / s * (fabs(a) + fabs(b));
+        if (!isfinite(w->num[i]) || !isfinite(w->rnd[i])) {
+            w->num[i] = a / s - b / s;
+            w->rnd[i] = BF_ROUNDING * (fabs(a) / s + fabs(b) / s);
         }
-        return BRDFFIT_OK;
+    } else {
+        w->num[i] = sign * (-3.0 * z + 4.0 * a - b) / s;
+        w->rnd[i] = BF_ROUNDING / s * (3.0 * fabs(z) + 4.0 * fabs(a) + fabs(b));
+        if (!isfinite(w->num[i]) || !isfinite(w->rnd[i])) {
+            w->num[i] = sign * (-3.0 * (z / s) + 4.0 * (a / s) - b / s);
+            w->rnd[i] = BF_ROUNDING * (3.0 * (fabs(z) / s) + 4.0 * (fabs(a) / s) + fabs(b) / s);
+        }
     }
-    {
-        const double sign = st.kind == STENCIL_FORWARD ? 1.0 : -1.0;
-        BF_RETURN_IF_ERROR(eval_shifted(w, j, sign * h, first, count, w->fa));
-        BF_RETURN_IF_ERROR(eval_shifted(w, j, sign * 2.0 * h, first, count, w->fb));
-        for (i = 0; i < n; i++) {
-            w->num[i] = sign * (-3.0 * f0[i] + 4.0 * fa[i] - fb[i]) / (2.0 * h);
-            w->rnd[i] = r * (3.0 * fabs(f0[i]) + 4.0 * fabs(fa[i]) + fabs(fb[i]));
-        }
+    return isfinite(w->num[i]) && isfinite(w->rnd[i]);
+}
+
+/* w->num = numeric derivative of every value of the chunk by entry j of
+ * parameter p (w->f0 must hold the values at x), from the first stencil
+ * that fits the bounds and does not overflow. *usable = 0 when none does:
+ * the entry cannot be checked by differences there. */
+static brdffit_status numeric_entry(jc_work *w, size_t j, const brdffit_param_info *p,
+                                    size_t first, size_t count, int *usable)
+{
+    static const double steps[3][2] = {{1.0, -1.0}, {1.0, 2.0}, {-1.0, -2.0}};
+    const double h = 1e-6 * fmax(fabs(w->x[j]), 1e-3);
+    const size_t n = w->nc * count;
+    int kind;
+    size_t i;
+    *usable = 0;
+    for (kind = STENCIL_CENTRAL; kind <= STENCIL_BACKWARD && !*usable; kind++) {
+        int over = 0;
+        if (!stencil_fits((stencil_kind)kind, w->x[j], h, p)) continue;
+        BF_RETURN_IF_ERROR(eval_shifted(w, j, steps[kind][0] * h, first, count, w->fa, &over));
+        if (!over)
+            BF_RETURN_IF_ERROR(eval_shifted(w, j, steps[kind][1] * h, first, count, w->fb, &over));
+        for (i = 0, *usable = !over; i < n && *usable; i++)
+            *usable = difference(w, (stencil_kind)kind, h, i);
     }
     return BRDFFIT_OK;
 }
@@ -160,9 +174,9 @@ static brdffit_status walk_chunk(jc_work *w, size_t first, size_t count, int com
         const brdffit_param_info *p = &w->m->params[k];
         const int per = (p->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
         for (e = 0; e < (per ? w->nc : 1); e++, j++) {
-            const stencil st = choose_stencil(w->x[j], p);
-            if (st.kind == STENCIL_SKIP) continue;
-            BF_RETURN_IF_ERROR(numeric_entry(w, j, st, first, count));
+            int usable;
+            BF_RETURN_IF_ERROR(numeric_entry(w, j, p, first, count, &usable));
+            if (!usable) continue;
             for (c = per ? e : 0; c < (per ? e + 1 : w->nc); c++) {
                 if (compare_pass)
                     compare(w, k, c, first, count);

@@ -221,11 +221,13 @@ brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt, const brdff
 {
     BF_RETURN_IF_ERROR(bf_optim_check_mutable(opt, "set_damping"));
     if (policy == NULL) policy = brdffit_damping_nielsen();
-    if (policy->struct_size < sizeof(brdffit_damping))
+    /* The first version's size, frozen: a larger struct (a newer header) is
+     * accepted, its later fields ignored. */
+    if (policy->struct_size < BRDFFIT_DAMPING_SIZE_V1)
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                              "set_damping: struct_size is %zu, expected at least %zu "
                              "(initialise with BRDFFIT_DAMPING_INIT)",
-                             policy->struct_size, sizeof(brdffit_damping));
+                             policy->struct_size, BRDFFIT_DAMPING_SIZE_V1);
     if (policy->init == NULL || policy->accept == NULL || policy->reject == NULL)
         return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT,
                              "set_damping: the policy needs init, accept and reject");

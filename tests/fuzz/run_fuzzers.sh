@@ -24,7 +24,7 @@ fi
 build=$(cd "$1" && pwd) || exit 2
 seconds=${2:-${BRDFFIT_FUZZ_SECONDS:-60}}
 src=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-harnesses=(csv merl astm rgl fit)
+harnesses=(csv merl astm rgl fit eval)
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/brdffit-fuzz-XXXXXX") || exit 1
 trap 'rm -rf "$work"' EXIT

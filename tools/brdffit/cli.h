@@ -71,11 +71,15 @@ double cli_now_ms(void);
 /* The file name without directories and without its last extension. */
 void cli_base_name(const char *path, char *out, size_t size);
 
-/* Write a file so that it appears complete or not at all: the writer fills
- * a temporary file next to `path`, which is then renamed over it. The
- * writer returns 0 on success or fills msg. Returns 0 on success; on
- * failure msg says why and no file (neither `path` nor the temporary one)
- * is left behind. */
+/* Write an output file (write.c). A regular file, or a new one, appears
+ * complete or not at all: the writer fills a temporary file next to it,
+ * which is then renamed over it, with the mode of the file it replaces
+ * (0644 for a new one). A symbolic link stays a link: its target is
+ * replaced the same way (a link to a missing file is refused). A device
+ * or a FIFO is never replaced: it is written through (a FIFO without a
+ * reader is refused). A directory is refused. The writer returns 0 on
+ * success or fills msg. Returns 0 on success; on failure msg says why and
+ * no temporary file is left behind. */
 typedef int (*cli_writer)(FILE *f, void *ctx, char *msg, size_t msg_size);
 int cli_write_atomic(const char *path, cli_writer writer, void *ctx, char *msg, size_t msg_size);
 
@@ -166,6 +170,15 @@ void cli_draw_text(unsigned char *px, size_t stride, size_t width, size_t height
                    size_t y, const char *text, const unsigned char rgb[3]);
 
 int cli_preview_render(const cli_preview_input *in, cli_picture *out, char *msg, size_t msg_size);
+/* preview_name.c: the picture name of one input, every %s of the pattern
+ * replaced by the input's base name (NULL when out of memory; free() it). */
+char *cli_preview_name(const char *pattern, const char *path);
+/* 0 when every input gets an output name of its own (from `pattern`, the
+ * value of --`option`) that is not one of the inputs; otherwise prints a
+ * usage error naming the clash and returns CLI_USAGE (CLI_FAILED when out
+ * of memory). */
+int cli_output_names_check(const char *option, const char *pattern, char **files,
+                           size_t n_files);
 int cli_png_available(void);
 /* Write a picture as PNG, atomically (see cli_write_atomic). */
 int cli_png_write(const char *path, const cli_picture *pic, const char *description, char *msg,

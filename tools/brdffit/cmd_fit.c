@@ -139,35 +139,13 @@ static int collect(brdffit_fit *fit, fit_result *r)
     return 0;
 }
 
-/* The preview file name of one input: every %s replaced by its base name. */
-static char *preview_name(const char *pattern, const char *path)
-{
-    char base[256], *out, *q;
-    const char *p;
-    size_t n = strlen(pattern) + 1;
-    cli_base_name(path, base, sizeof base);
-    for (p = strstr(pattern, "%s"); p != NULL; p = strstr(p + 2, "%s")) n += strlen(base);
-    out = malloc(n);
-    if (out == NULL) return NULL;
-    for (p = pattern, q = out; *p != '\0';) {
-        if (p[0] == '%' && p[1] == 's') {
-            strcpy(q, base);
-            q += strlen(base);
-            p += 2;
-        } else
-            *q++ = *p++;
-    }
-    *q = '\0';
-    return out;
-}
-
 static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_run *run,
                           fit_result *r)
 {
     cli_preview_input in;
     cli_picture pic = {NULL, 0, 0};
     char msg[CLI_MSG_SIZE], desc[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
-    char *name = preview_name(run->opts->preview, r->path);
+    char *name = cli_preview_name(run->opts->preview, r->path);
     double *history = NULL;
     size_t n = brdffit_fit_history(fit, NULL, NULL);
     if (name == NULL || (n > 0 && (history = malloc(n * sizeof(double))) == NULL)) {
@@ -204,7 +182,7 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
 static void write_export(const fit_run *run, fit_result *r, const char *pattern, int mtlx)
 {
     char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300], base[128];
-    char *name = preview_name(pattern, r->path);
+    char *name = cli_preview_name(pattern, r->path);
     const char *what = mtlx ? "MaterialX" : "glTF";
     int rc;
     cli_base_name(r->path, base, sizeof base);
@@ -471,7 +449,19 @@ static int parse_options(fit_opts *o, int argc, char **argv)
     return r < 0 ? -2 : n_files;
 }
 
-static int check_options(const fit_opts *o, int n_files)
+/* Every output named from a pattern: one name per input, none an input. */
+static int output_names_check(const fit_opts *o, char **files, size_t n_files)
+{
+    const char *const option[3] = {"preview", "gltf", "mtlx"};
+    const char *const pattern[3] = {o->preview, o->gltf, o->mtlx};
+    size_t i;
+    int rc = 0;
+    for (i = 0; i < 3 && rc == 0; i++)
+        if (pattern[i] != NULL) rc = cli_output_names_check(option[i], pattern[i], files, n_files);
+    return rc;
+}
+
+static int check_options(const fit_opts *o, char **files, int n_files)
 {
     if (n_files == 0) return cli_usage_error("fit", "no FILE given");
     if (o->preview != NULL && !cli_png_available())
@@ -489,7 +479,7 @@ static int check_options(const fit_opts *o, int n_files)
         return cli_usage_error("fit", "--gltf with several files needs %%s in its name");
     if (o->mtlx != NULL && n_files > 1 && strstr(o->mtlx, "%s") == NULL)
         return cli_usage_error("fit", "--mtlx with several files needs %%s in its name");
-    return 0;
+    return output_names_check(o, files, (size_t)n_files);
 }
 
 static int fit_files(const fit_opts *o, char **files, size_t n_files)
@@ -542,7 +532,7 @@ static int fit_files(const fit_opts *o, char **files, size_t n_files)
 int cli_cmd_fit(int argc, char **argv)
 {
     fit_opts o;
-    int n_files;
+    int n_files, rc;
     memset(&o, 0, sizeof o);
     o.model_name = "ashikhmin-shirley";
     o.pipeline = BRDFFIT_PIPELINE_AUTO;
@@ -554,6 +544,6 @@ int cli_cmd_fit(int argc, char **argv)
     n_files = parse_options(&o, argc, argv);
     if (n_files == -1) return CLI_OK;
     if (n_files < 0) return CLI_USAGE;
-    if (check_options(&o, n_files) != 0) return CLI_USAGE;
+    if ((rc = check_options(&o, argv, n_files)) != 0) return rc;
     return fit_files(&o, argv, (size_t)n_files);
 }

@@ -158,10 +158,18 @@ static int write_csv(FILE *f, void *ctx, char *msg, size_t msg_size)
     return rc;
 }
 
-/* Polar axis 0, step, 2 step, ... <= 90 deg. */
+/* Values of the polar axis 0, step, 2 step, ... <= 90 deg, as a double so
+ * that a tiny step gives a huge count (or inf) to check, never a size_t
+ * conversion out of range. */
+static double polar_count(double step)
+{
+    return floor(90.0 / step + 1e-9) + 1.0;
+}
+
+/* The axis of polar_count(step) values; n is within the sample limit. */
 static size_t polar_axis(double step, double **out)
 {
-    size_t n = (size_t)floor(90.0 / step + 1e-9) + 1, k;
+    size_t n = (size_t)polar_count(step), k;
     *out = malloc(n * sizeof(double));
     if (*out == NULL) return 0;
     for (k = 0; k < n; k++) (*out)[k] = (double)k * step;
@@ -240,6 +248,10 @@ static int parse_options(synth_opts *o, int argc, char **argv)
 
 static int build_axes(synth_job *job, const synth_opts *o)
 {
+    /* The sample count first, in doubles (inf for absurd steps): nothing is
+     * allocated for axes beyond the limit. */
+    if (!(polar_count(o->ti_step) * polar_count(o->to_step) * (double)o->n_phi <= MAX_SAMPLES))
+        return cli_usage_error("synth", "--axes gives more than %d samples", MAX_SAMPLES);
     job->n[0] = polar_axis(o->ti_step, &job->deg[0]);
     job->n[1] = polar_axis(o->to_step, &job->deg[1]);
     job->n[2] = azimuth_axis(o->n_phi, &job->deg[2]);
@@ -247,8 +259,6 @@ static int build_axes(synth_job *job, const synth_opts *o)
         cli_error(NULL, "out of memory");
         return -1;
     }
-    if ((double)job->n[0] * (double)job->n[1] * (double)job->n[2] > MAX_SAMPLES)
-        return cli_usage_error("synth", "--axes gives more than %d samples", MAX_SAMPLES);
     return 0;
 }
 

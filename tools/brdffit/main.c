@@ -1,5 +1,6 @@
 /* brdffit: fit analytic BRDF models to measured reflectance from the
  * command line. Dispatches to the subcommands (docs/cli.md). */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -32,7 +33,7 @@ static int version(void)
     return CLI_OK;
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
     const char *cmd = argc > 1 ? argv[1] : NULL;
     if (cmd == NULL) {
@@ -49,4 +50,18 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "info") == 0) return cli_cmd_info(argc - 2, argv + 2);
     if (strcmp(cmd, "synth") == 0) return cli_cmd_synth(argc - 2, argv + 2);
     return cli_usage_error(NULL, "unknown command \"%s\"", cmd);
+}
+
+/* Output that could not be written (a full disk, > /dev/full, a closed
+ * pipe) is a failure of the command, not a success. */
+int main(int argc, char **argv)
+{
+    int rc = dispatch(argc, argv);
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0) {
+        cli_error(NULL, "cannot write the standard output: %s",
+                  errno != 0 ? strerror(errno) : "write error");
+        return rc != CLI_OK ? rc : CLI_FAILED;
+    }
+    return rc;
 }

@@ -3,6 +3,7 @@
  * the measured BRDF (top row) and the fitted model (bottom row) under
  * light at 0, 30 and 60 deg, and the cost per iteration on a log scale.
  * Every panel has a label above it. Drawn with image.h. */
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -173,6 +174,10 @@ int cli_preview_render(const cli_preview_input *in, cli_picture *out, char *msg,
     c.width = l.width;
     c.height = l.height;
     c.stride = 3 * l.width;
+    if (l.height > SIZE_MAX / c.stride) {
+        cli_format(msg, msg_size, "picture of %zu x %zu pixels too large", l.width, l.height);
+        return -1;
+    }
     c.px = malloc(c.stride * l.height);
     if (c.px == NULL) {
         cli_format(msg, msg_size, "out of memory");

@@ -1,5 +1,4 @@
-/* Messages, time, file names, atomic writes and appends, growable strings
- * with JSON and CSV quoting. */
+/* Messages, time, file names, growable strings with JSON and CSV quoting. */
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -78,110 +77,6 @@ void cli_base_name(const char *path, char *out, size_t size)
     if (len >= size) len = size - 1;
     memcpy(out, base, len);
     out[len] = '\0';
-}
-
-/* --- atomic writes -------------------------------------------------------------- */
-
-int cli_write_atomic(const char *path, cli_writer writer, void *ctx, char *msg, size_t msg_size)
-{
-    size_t len = strlen(path);
-    char *tmp = malloc(len + 16);
-    FILE *f;
-    int fd, failed;
-    if (tmp == NULL) {
-        cli_format(msg, msg_size, "out of memory");
-        return -1;
-    }
-    memcpy(tmp, path, len);
-    memcpy(tmp + len, ".tmp-XXXXXX", 12);
-    fd = mkstemp(tmp);
-    if (fd < 0 || (f = fdopen(fd, "wb")) == NULL) {
-        cli_format(msg, msg_size, "cannot create a file next to it: %s", strerror(errno));
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        free(tmp);
-        return -1;
-    }
-    (void)fchmod(fd, 0644); /* mkstemp makes 0600; ordinary output files are readable */
-    failed = writer(f, ctx, msg, msg_size) != 0;
-    if (!failed && (fflush(f) != 0 || ferror(f))) {
-        cli_format(msg, msg_size, "write failed: %s", strerror(errno));
-        failed = 1;
-    }
-    if (fclose(f) != 0 && !failed) {
-        cli_format(msg, msg_size, "write failed: %s", strerror(errno));
-        failed = 1;
-    }
-    if (!failed && rename(tmp, path) != 0) {
-        cli_format(msg, msg_size, "cannot rename the finished file into place: %s",
-                   strerror(errno));
-        failed = 1;
-    }
-    if (failed) unlink(tmp);
-    free(tmp);
-    return failed ? -1 : 0;
-}
-
-/* The first line of an open file (without the line end) equals header? */
-static int first_line_is(int fd, const char *header)
-{
-    size_t len = strlen(header), got = 0;
-    char buf[4096];
-    if (len + 1 > sizeof buf) return 0;
-    while (got < len + 1) {
-        ssize_t n = pread(fd, buf + got, len + 1 - got, (off_t)got);
-        if (n <= 0) break;
-        got += (size_t)n;
-    }
-    if (got < len || memcmp(buf, header, len) != 0) return 0;
-    return got == len || buf[len] == '\n' || buf[len] == '\r';
-}
-
-static int write_all(int fd, const char *data, size_t size)
-{
-    while (size > 0) {
-        ssize_t n = write(fd, data, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return -1;
-        data += n;
-        size -= (size_t)n;
-    }
-    return 0;
-}
-
-int cli_append(const char *path, const char *header, const char *data, size_t size, char *msg,
-               size_t msg_size)
-{
-    struct stat st;
-    int fd = open(path, O_RDWR | O_APPEND | O_CREAT, 0644), rc = -1;
-    cli_buf b;
-    if (fd < 0) {
-        cli_format(msg, msg_size, "cannot open for appending: %s", strerror(errno));
-        return -1;
-    }
-    cli_buf_init(&b);
-    if (fstat(fd, &st) != 0) st.st_size = 0;
-    if (header != NULL && st.st_size == 0) cli_buf_printf(&b, "%s\n", header);
-    cli_buf_write(&b, data, size);
-    if (header != NULL && st.st_size != 0 && !first_line_is(fd, header))
-        cli_format(msg, msg_size,
-                   "its header differs from the columns of this run (another model or "
-                   "channel count)");
-    else if (b.failed)
-        cli_format(msg, msg_size, "out of memory");
-    else if (write_all(fd, b.data, b.len) != 0)
-        cli_format(msg, msg_size, "write failed: %s", strerror(errno));
-    else
-        rc = 0;
-    if (close(fd) != 0 && rc == 0) {
-        cli_format(msg, msg_size, "write failed: %s", strerror(errno));
-        rc = -1;
-    }
-    if (rc != 0 && st.st_size == 0) unlink(path); /* leave no empty file behind */
-    cli_buf_free(&b);
-    return rc;
 }
 
 /* --- growable strings -------------------------------------------------------------- */

@@ -10,6 +10,8 @@ import ctypes
 import ctypes.util
 import os
 
+import numpy as np
+
 from ctypes import (CFUNCTYPE, POINTER, Structure, c_char, c_char_p, c_double, c_int,
                     c_size_t, c_uint, c_ubyte, c_void_p)
 
@@ -206,7 +208,11 @@ def _load():
         raise OSError("cannot load the libbrdffit shared library; set BRDFFIT_LIBRARY to its "
                       "full path (tried: %s)" % "; ".join(errors))
     for fname, (restype, argtypes) in _PROTOTYPES.items():
-        fn = getattr(lib, fname)
+        try:
+            fn = getattr(lib, fname)
+        except AttributeError:
+            raise OSError("%s is not libbrdffit (it lacks %s); set BRDFFIT_LIBRARY to the "
+                          "library's full path" % (name, fname)) from None
         fn.restype = restype
         fn.argtypes = argtypes
     major = lib.brdffit_version_number() // 10000
@@ -313,3 +319,26 @@ _PROTOTYPES_OPTIM_IMAGE = {
 for _name, (_restype, _argtypes) in _PROTOTYPES_OPTIM_IMAGE.items():
     _fn = getattr(lib, _name)
     _fn.restype, _fn.argtypes = _restype, _argtypes
+
+
+def as_float64(values, what):
+    """``values`` as a C-contiguous float64 numpy array. Complex values are
+    refused (numpy would drop their imaginary part)."""
+    a = np.asarray(values)
+    if np.iscomplexobj(a):
+        raise TypeError("%s must be real numbers, got complex values" % what)
+    a = np.asarray(a, dtype=np.float64)
+    return a if a.flags.c_contiguous else np.ascontiguousarray(a)
+
+
+def c_string(text, what):
+    """``text`` (str or bytes) as NUL-free bytes for a C string argument."""
+    if isinstance(text, str):
+        data = text.encode("utf-8")
+    elif isinstance(text, (bytes, bytearray)):
+        data = bytes(text)
+    else:
+        raise TypeError("%s must be a str or bytes, got %s" % (what, type(text).__name__))
+    if b"\0" in data:
+        raise ValueError("%s contains a NUL character: %r" % (what, text))
+    return data

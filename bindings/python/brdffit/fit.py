@@ -1,14 +1,17 @@
 """Fitting a model to a measured grid."""
 
 import collections
+import contextlib
 import ctypes
+import threading
 
 import numpy as np
 
 from . import _lib
 from ._handle import Handle
+from ._interrupt import SigintCancel
 from ._lib import ALL_CHANNELS, dptr, lib
-from .errors import Status, check, new_error
+from .errors import BrdffitError, Status, check, new_error
 from .grid import Weighting
 
 __all__ = ["Fit", "IterationInfo", "PIPELINES", "METRICS", "STOP_REASONS"]
@@ -29,6 +32,13 @@ _PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4,
 #: point, the damping lambda after the iteration, the gain ratio rho and a copy
 #: of the current parameters (the LM run's own parameter vector).
 IterationInfo = collections.namedtuple("IterationInfo", "iteration accepted cost lambda_ rho x")
+
+
+def _real(value, what):
+    """A float from a real number (a complex one is refused, not truncated)."""
+    if isinstance(value, (complex, np.complexfloating)):
+        raise TypeError("%s must be a real number, got %r" % (what, value))
+    return float(value)
 
 
 def _lookup(table, value, what):
@@ -59,13 +69,17 @@ class Fit(Handle):
     - ``callback``: called after every LM iteration (see :meth:`set_callback`).
 
     The fit keeps its grid and model alive; close it (or use ``with``) to
-    free it early. A fit is used from one thread at a time, except
-    :meth:`cancel`.
+    free it early. While :meth:`run` is in progress, from any thread
+    (its own callbacks included), only :meth:`cancel` and :meth:`close` may
+    be called: every other method raises ``BrdffitError`` ``E_INVALID_ARGUMENT``,
+    and ``close()`` cancels the run and frees the fit once it has returned.
     """
 
     _kind = "fit"
 
     def __init__(self, grid, model, **options):
+        self._lock = threading.RLock()
+        self._running = False
         super().__init__(None)
         self._grid, self._model = grid, model
         self._parents = []
@@ -116,6 +130,29 @@ class Fit(Handle):
         self._callback = None
         self._release_parents()
 
+    def close(self):
+        """Free the C fit. Idempotent. During :meth:`run` (from a callback or
+        another thread) it cancels the run and frees the fit once ``run()``
+        has returned, which then raises ``E_BAD_HANDLE``."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            if self._running:
+                lib.brdffit_fit_cancel(self._ptr)
+                return
+        self._destroy()
+
+    @contextlib.contextmanager
+    def _idle(self):
+        """The C handle, for a call that must not overlap a run (any thread)."""
+        with self._lock:
+            if self._running:
+                raise BrdffitError(Status.E_INVALID_ARGUMENT,
+                                   "the fit is running: only cancel() and close() may be "
+                                   "called until run() returns")
+            yield self._handle
+
     @property
     def grid(self):
         """The fitted :class:`~brdffit.Grid`."""
@@ -135,11 +172,14 @@ class Fit(Handle):
             check(status, message=msg)
 
     def _set(self, setting, value):
-        self._check(lib.brdffit_fit_set(self._handle, setting, float(value)))
+        value = _real(value, "setting")
+        with self._idle() as h:
+            self._check(lib.brdffit_fit_set(h, setting, value))
 
     def _get(self, setting):
         v = ctypes.c_double()
-        self._check(lib.brdffit_fit_get(self._handle, setting, ctypes.byref(v)))
+        with self._idle() as h:
+            self._check(lib.brdffit_fit_get(h, setting, ctypes.byref(v)))
         return v.value
 
     @property
@@ -217,17 +257,18 @@ class Fit(Handle):
         Raises:
             BrdffitError: ``E_RANGE`` for a value outside the model's bounds.
         """
-        h = self._handle
-        if start is None:
-            self._check(lib.brdffit_fit_set_start(h, None))
-            return
-        if isinstance(start, dict):
-            vec = self._layout.pack(start)
-        else:
-            vec = np.ascontiguousarray(start, dtype=np.float64).reshape(-1)
-        if vec.size != self.param_count:
-            raise ValueError("start has %d entries, expected %d" % (vec.size, self.param_count))
-        self._check(lib.brdffit_fit_set_start(h, dptr(vec)))
+        with self._idle() as h:
+            if start is None:
+                self._check(lib.brdffit_fit_set_start(h, None))
+                return
+            if isinstance(start, dict):
+                vec = self._layout.pack(start)
+            else:
+                vec = _lib.as_float64(start, "start").reshape(-1)
+            if vec.size != self.param_count:
+                raise ValueError("start has %d entries, expected %d"
+                                 % (vec.size, self.param_count))
+            self._check(lib.brdffit_fit_set_start(h, dptr(vec)))
 
     def set_fixed(self, params, fixed=True):
         """Hold parameters fixed at their start value, or free them.
@@ -245,7 +286,10 @@ class Fit(Handle):
             items = [(p, fixed) for p in params]
         for p, f in items:
             k = self._layout.find(p) if isinstance(p, str) else int(p)
-            self._check(lib.brdffit_fit_set_fixed(self._handle, k, 1 if f else 0))
+            if k < 0:
+                raise ValueError("parameter index must be >= 0, got %d" % k)
+            with self._idle() as h:
+                self._check(lib.brdffit_fit_set_fixed(h, k, 1 if f else 0))
 
     def set_callback(self, fn):
         """Call ``fn(info)`` after every LM iteration (None removes it).
@@ -255,8 +299,9 @@ class Fit(Handle):
         also stops the fit and is re-raised by :meth:`run`.
         """
         if fn is None:
-            self._check(lib.brdffit_fit_set_callback(self._handle, _lib.ITERATION_FN(), None))
-            self._callback = None
+            with self._idle() as h:
+                self._check(lib.brdffit_fit_set_callback(h, _lib.ITERATION_FN(), None))
+                self._callback = None
             return
 
         def trampoline(info_p, user):
@@ -272,47 +317,82 @@ class Fit(Handle):
                 return 1
 
         c_fn = _lib.ITERATION_FN(trampoline)
-        self._check(lib.brdffit_fit_set_callback(self._handle, c_fn, None))
-        self._callback = c_fn
+        with self._idle() as h:
+            self._check(lib.brdffit_fit_set_callback(h, c_fn, None))
+            self._callback = c_fn  # kept alive while the C fit may call it
 
     def cancel(self):
         """Ask a running fit to stop (from any thread); stop reason ``"cancelled"``."""
-        lib.brdffit_fit_cancel(self._handle)
+        with self._lock:
+            lib.brdffit_fit_cancel(self._handle)
 
     # ---- running ------------------------------------------------------------
 
     def run(self):
         """Run the fit with the current options; returns ``self``.
 
+        The first exception raised in a Python model or in the iteration
+        callback stops the run (also at a trial point and with
+        ``threads > 1``) and comes back from ``run()``; Ctrl-C (SIGINT)
+        during a run in the main thread cancels it and raises
+        ``KeyboardInterrupt``.
+
         Raises:
             BrdffitError: e.g. ``E_NO_DATA`` when no sample lies inside the
                 cap, ``E_MODEL_FAILED`` when the model fails (its Python
-                exception, for a Python model, is the ``__cause__``).
+                exception, for a Python model, is the ``__cause__``);
+                ``E_BAD_HANDLE`` when the fit was closed during the run.
         """
-        h = self._handle
-        self._callback_error = None
+        with self._idle() as h:
+            self._running = True
+            self._callback_error = None
         pe = self._model._python_eval
-        if pe is not None:
-            pe.error = None
-        status = lib.brdffit_fit_run(h)
-        msg = lib.brdffit_fit_message(h).decode("utf-8", "replace")
+        try:
+            if pe is not None:
+                pe.begin_run(h)
+            with SigintCancel(lambda: lib.brdffit_fit_cancel(h)) as sigint:
+                status = lib.brdffit_fit_run(h)
+            msg = lib.brdffit_fit_message(h).decode("utf-8", "replace")
+        finally:
+            model_error = pe.end_run(h) if pe is not None else None
+            with self._lock:
+                self._running = False
+                closed = self._closed
+            if closed:
+                self._destroy()
         cb_error, self._callback_error = self._callback_error, None
-        self._model.raise_callback_error(status, msg)
-        if cb_error is not None:
-            raise cb_error
+        self._raise_run_error(status, msg, model_error, cb_error)
+        sigint.raise_if_interrupted()
+        if closed:
+            raise BrdffitError(Status.E_BAD_HANDLE, "the fit was closed during run()")
         check(status, message=msg)
         return self
+
+    def _raise_run_error(self, status, msg, model_error, cb_error):
+        """Re-raise the first exception of the run's Python code, if any."""
+        if model_error is not None:
+            if not isinstance(model_error, Exception):
+                raise model_error
+            if status == Status.OK:  # raised at a trial point: the run was stopped
+                status = Status.E_MODEL_FAILED
+                msg = "model %s raised %s: %s (the fit was stopped)" % (
+                    self._model_name, type(model_error).__name__, model_error)
+            raise BrdffitError(status, msg) from model_error
+        if cb_error is not None:
+            raise cb_error
 
     # ---- results ------------------------------------------------------------
 
     @property
     def param_count(self):
         """Length of the parameter vector."""
-        return lib.brdffit_fit_param_count(self._handle)
+        with self._idle() as h:
+            return lib.brdffit_fit_param_count(h)
 
     def _vector(self, fn):
         out = np.empty(self.param_count)
-        self._check(fn(self._handle, dptr(out)))
+        with self._idle() as h:
+            self._check(fn(h, dptr(out)))
         return out
 
     @property
@@ -346,7 +426,8 @@ class Fit(Handle):
         if ch < 0:
             raise ValueError("channel must be >= 0")
         v = ctypes.c_double()
-        self._check(lib.brdffit_fit_error(self._handle, m, ch, ctypes.byref(v)))
+        with self._idle() as h:
+            self._check(lib.brdffit_fit_error(h, m, ch, ctypes.byref(v)))
         return v.value
 
     def shader(self):
@@ -359,43 +440,48 @@ class Fit(Handle):
         nc = self.n_channels
         rs = ctypes.c_double()
         cd, cs = np.empty(nc), np.empty(nc)
-        status = lib.brdffit_fit_shader(self._handle, ctypes.byref(rs), dptr(cd), dptr(cs))
-        if status == Status.E_UNSUPPORTED:
-            check(status, message="model %s has no parameters cd and cs" % self._model_name)
-        if status == Status.E_RANGE:
-            check(status, message="max(cs) >= 1: no shader form exists")
-        self._check(status)
+        with self._idle() as h:
+            status = lib.brdffit_fit_shader(h, ctypes.byref(rs), dptr(cd), dptr(cs))
+            if status == Status.E_UNSUPPORTED:
+                check(status, message="model %s has no parameters cd and cs" % self._model_name)
+            if status == Status.E_RANGE:
+                check(status, message="max(cs) >= 1: no shader form exists")
+            self._check(status)
         return rs.value, cd, cs
 
     @property
     def stop_reason(self):
         """Why the final LM run ended: one of :data:`STOP_REASONS`."""
-        r = lib.brdffit_fit_stop_reason(self._handle)
+        with self._idle() as h:
+            r = lib.brdffit_fit_stop_reason(h)
         return STOP_REASONS[r] if 0 <= r < len(STOP_REASONS) else "unknown"
 
     @property
     def stop_reason_text(self):
         """The library's description of :attr:`stop_reason`."""
-        return lib.brdffit_stop_reason_string(lib.brdffit_fit_stop_reason(self._handle)).decode()
+        with self._idle() as h:
+            return lib.brdffit_stop_reason_string(lib.brdffit_fit_stop_reason(h)).decode()
 
     @property
     def iterations(self):
         """Iterations of the final LM run."""
-        return lib.brdffit_fit_iterations(self._handle)
+        with self._idle() as h:
+            return lib.brdffit_fit_iterations(h)
 
     @property
     def passes(self):
         """Passes over the samples the last run made."""
-        return lib.brdffit_fit_passes(self._handle)
+        with self._idle() as h:
+            return lib.brdffit_fit_passes(h)
 
     def history(self):
         """``(cost, lambda)``: arrays of the start value and the value after
         every iteration of the final LM run (empty before a run)."""
-        h = self._handle
-        n = lib.brdffit_fit_history(h, None, None)
-        cost, lam = np.empty(n), np.empty(n)
-        if n:
-            lib.brdffit_fit_history(h, dptr(cost), dptr(lam))
+        with self._idle() as h:
+            n = lib.brdffit_fit_history(h, None, None)
+            cost, lam = np.empty(n), np.empty(n)
+            if n:
+                lib.brdffit_fit_history(h, dptr(cost), dptr(lam))
         return cost, lam
 
     def __repr__(self):

@@ -27,7 +27,7 @@ _KINDS = {1: "regular", 2: "scattered"}
 
 def _vector(x, name):
     """A 1-D float64 C-contiguous copy-or-view of ``x``."""
-    a = np.ascontiguousarray(x, dtype=np.float64)
+    a = _lib.as_float64(x, name)
     if a.ndim == 0:
         a = a.reshape(1)
     if a.ndim != 1:
@@ -57,7 +57,7 @@ def default_axes():
 
 def _values_2d(values, n_samples, grid_shape=None):
     """Values as a C-contiguous (n_samples, n_channels) float64 array."""
-    v = np.ascontiguousarray(values, dtype=np.float64)
+    v = _lib.as_float64(values, "values")
     if grid_shape is not None and v.shape[:3] == grid_shape and v.ndim in (3, 4):
         v = v.reshape(n_samples, -1)
     elif v.ndim == 1:
@@ -88,7 +88,23 @@ def _filled(values):
 
 
 def _path(path):
-    return os.fsencode(path)
+    """A file name for the C library; one with a NUL byte is refused (C
+    would silently stop reading it there)."""
+    encoded = os.fsencode(path)
+    if b"\0" in encoded:
+        raise ValueError("path contains a NUL character: %r" % (path,))
+    return encoded
+
+
+def _buffer(data, text_ok):
+    """The bytes of a buffer argument: bytes-like objects (and str when
+    text_ok); an int would make bytes(n) NUL bytes, so anything else is refused."""
+    if text_ok and isinstance(data, str):
+        return data.encode("utf-8")
+    if isinstance(data, (bytes, bytearray, memoryview)):
+        return bytes(data)
+    raise TypeError("data must be bytes-like%s, got %s"
+                    % (" or str" if text_ok else "", type(data).__name__))
 
 
 class Grid(Handle):
@@ -195,9 +211,7 @@ class Grid(Handle):
     @classmethod
     def load_csv_bytes(cls, data):
         """Load CSV text from memory (``bytes`` or ``str``); as :meth:`load_csv`."""
-        if isinstance(data, str):
-            data = data.encode("utf-8")
-        data = bytes(data)
+        data = _buffer(data, True)
         return cls._create(lib.brdffit_load_csv_buffer, data, len(data))
 
     @staticmethod
@@ -229,7 +243,7 @@ class Grid(Handle):
     @classmethod
     def load_merl_bytes(cls, data, axes=None, regular=False):
         """Load MERL binary data from memory; as :meth:`load_merl`."""
-        data = bytes(data)
+        data = _buffer(data, False)
         ax, keep = cls._merl_axes(axes, regular)
         grid = cls._create(lib.brdffit_load_merl_buffer, data, len(data), ax)
         del keep
@@ -397,7 +411,7 @@ class Grid(Handle):
         Returns:
             An array of shape ``broadcast shape + (n_channels,)``.
         """
-        args = np.broadcast_arrays(*[np.asarray(a, dtype=np.float64)
+        args = np.broadcast_arrays(*[_lib.as_float64(a, "angles")
                                      for a in (theta_i, phi_i, theta_o, phi_o)])
         shape = args[0].shape
         flat = [a.reshape(-1) for a in args]

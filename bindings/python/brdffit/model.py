@@ -4,6 +4,7 @@ import collections
 import ctypes
 import enum
 import math
+import threading
 
 import numpy as np
 
@@ -51,7 +52,28 @@ JacobianReport = collections.namedtuple(
 
 
 def _as_params(params):
-    return np.ascontiguousarray(params, dtype=np.float64).reshape(-1)
+    return _lib.as_float64(params, "params").reshape(-1)
+
+
+def _status_of(exc):
+    """The status a raised exception asks for: a BrdffitError's own failure
+    status (even of a subclass that skipped ``__init__``), else
+    ``E_CALLBACK_FAILED``."""
+    status = getattr(exc, "status", None) if isinstance(exc, BrdffitError) else None
+    if isinstance(status, int) and status in Status.__members__.values() and \
+            status != Status.OK:
+        return int(status)
+    return int(Status.E_CALLBACK_FAILED)
+
+
+def _shaped(array, shapes, what):
+    """``array`` as float64 when its shape is one of ``shapes`` (a transposed
+    or otherwise reshaped result of the right size is refused)."""
+    a = _lib.as_float64(array, what)
+    if a.shape not in shapes:
+        raise ValueError("model returned %s of shape %s, expected %s"
+                         % (what, a.shape, " or ".join(str(s) for s in shapes)))
+    return a
 
 
 class _PythonEval:
@@ -69,21 +91,48 @@ class _PythonEval:
         self.n_params = len(infos)
         self.per_channel = [info.per_channel for info in infos]
         self.error = None
+        self._lock = threading.Lock()  # error and runs, from the library's threads
+        self._runs = set()             # C fits running with this model
         self.c_function = _lib.EVAL_FN(self)
 
     def vector_size(self, nc):
         return sum(nc if pc else 1 for pc in self.per_channel)
+
+    def begin_run(self, fit_ptr):
+        """A fit starts running with this model: its first exception cancels it."""
+        with self._lock:
+            if not self._runs:
+                self.error = None
+            self._runs.add(fit_ptr.value)
+
+    def end_run(self, fit_ptr):
+        """The fit's run is over; returns the exception raised during it, if any."""
+        with self._lock:
+            self._runs.discard(fit_ptr.value)
+            exc = self.error
+            if not self._runs:
+                self.error = None
+            return exc
+
+    def _record(self, exc):
+        with self._lock:
+            first = self.error is None
+            if first:
+                self.error = exc
+            runs = list(self._runs) if first else []
+        for ptr in runs:  # the first exception stops every run using the model
+            lib.brdffit_fit_cancel(ptr)
 
     def __call__(self, batch_p, params_p, nc, values_p, jac_p, user):
         try:
             self.evaluate(batch_p.contents, params_p, nc, values_p, jac_p)
             return Status.OK
         except BaseException as exc:  # never let an exception cross into C
-            if self.error is None:
-                self.error = exc
-            if isinstance(exc, BrdffitError) and exc.status != Status.OK:
-                return exc.status
-            return Status.E_CALLBACK_FAILED
+            try:
+                self._record(exc)
+                return _status_of(exc)
+            except BaseException:  # pragma: no cover - last line of defence
+                return Status.E_CALLBACK_FAILED
 
     def evaluate(self, b, params_p, nc, values_p, jac_p):
         n = b.n
@@ -93,22 +142,16 @@ class _PythonEval:
         batch["want_jacobian"] = bool(jac_p)
         params = np.ctypeslib.as_array(params_p, (self.vector_size(nc),)).copy()
         result = self.eval_fn(batch, params, nc)
-        values, jac = result if isinstance(result, tuple) else (result, None)
-        values = np.asarray(values, dtype=np.float64)
-        if values.size != nc * n:
-            raise ValueError("model returned %d values, expected n_channels * n = %d"
-                             % (values.size, nc * n))
+        values, jac = result if isinstance(result, tuple) and len(result) == 2 else (result, None)
+        values = _shaped(values, [(nc, n)] + ([(n,)] if nc == 1 else []), "values")
         if n:
             np.ctypeslib.as_array(values_p, (nc * n,))[:] = values.reshape(-1)
         if not jac_p:
             return
         if jac is None:
             raise ValueError("model returned no Jacobian although one was requested")
-        jac = np.asarray(jac, dtype=np.float64)
-        if jac.size != self.n_params * nc * n:
-            raise ValueError("model returned a Jacobian of %d entries, expected "
-                             "n_params * n_channels * n = %d"
-                             % (jac.size, self.n_params * nc * n))
+        k = self.n_params
+        jac = _shaped(jac, [(k, nc, n)] + ([(k, n)] if nc == 1 else []), "a Jacobian")
         if n:
             np.ctypeslib.as_array(jac_p, (self.n_params * nc * n,))[:] = jac.reshape(-1)
 
@@ -202,7 +245,7 @@ class Model(Handle):
         """
         out = ctypes.c_void_p()
         err = new_error()
-        check(lib.brdffit_model_create(ctypes.byref(out), name.encode(), None,
+        check(lib.brdffit_model_create(ctypes.byref(out), _lib.c_string(name, "name"), None,
                                        ctypes.byref(err)), err)
         return cls(out.value)
 
@@ -235,14 +278,14 @@ class Model(Handle):
         infos = [p if isinstance(p, ParamInfo) else ParamInfo(*p) for p in params]
         if not infos:
             raise ValueError("a model needs at least one parameter")
-        names = [info.name.encode() for info in infos]
+        names = [_lib.c_string(info.name, "parameter name") for info in infos]
         c_params = (_lib.ParamInfo * len(infos))(*[
             _lib.ParamInfo(nm, int(i.flags), i.lower, i.upper, i.start)
             for nm, i in zip(names, infos)])
         python_eval = _PythonEval(eval_fn, infos)
         d = _lib.ModelDef()
         lib.brdffit_model_def_init(ctypes.byref(d))
-        name_b = name.encode()
+        name_b = _lib.c_string(name, "name")
         d.name = name_b
         d.n_params = len(infos)
         d.params = c_params
@@ -282,7 +325,8 @@ class Model(Handle):
     def param_index(self, name):
         """Declaration index of the parameter called ``name`` (E_NOT_FOUND if none)."""
         index = ctypes.c_size_t()
-        status = lib.brdffit_model_param_find(self._handle, name.encode(), ctypes.byref(index))
+        status = lib.brdffit_model_param_find(self._handle, _lib.c_string(name, "name"),
+                                              ctypes.byref(index))
         check(status, message="model %s has no parameter %r" % (self.name, name)
               if status == Status.E_NOT_FOUND else None)
         return index.value
@@ -339,7 +383,8 @@ class Model(Handle):
         err = new_error()
         pe = self._python_eval
         if pe is not None:
-            pe.error = None
+            with pe._lock:
+                pe.error = None
         status = fn(*args, ctypes.byref(err))
         self.raise_callback_error(status, err.message.decode("utf-8", "replace"))
         check(status, err)
@@ -414,7 +459,7 @@ class Model(Handle):
         nc = self._infer_channels(p.size) if n_channels is None else int(n_channels)
         p = self._check_vector(p, nc)
         angles = [np.ascontiguousarray(a.reshape(-1)) for a in np.broadcast_arrays(
-            *[np.asarray(x, dtype=np.float64) for x in (theta_i, phi_i, theta_o, phi_o)])]
+            *[_lib.as_float64(x, "angles") for x in (theta_i, phi_i, theta_o, phi_o)])]
         count = angles[0].size
         values, jac = self._outputs(count, nc, jacobian)
         self._run(lib.brdffit_model_eval_angles, self._handle, count,
