@@ -159,6 +159,14 @@ class Recovery(unittest.TestCase):
         self.assertLess(cost[-1], cost[0])
         self.assertTrue(np.all(lam > 0.0))
 
+    def test_warnings(self):
+        self.assertEqual(Fit(self.grid, self.builtin).run().warnings(), [])
+        self.assertEqual(Fit(self.grid, self.builtin).warnings(), [])
+        short = Fit(self.grid, self.builtin, pipeline="joint", max_iterations=1).run()
+        self.assertEqual(short.stop_reason, "max-iterations")
+        self.assertEqual(short.warnings(), [
+            ("iteration-limit", "the last optimizer run ended at its iteration limit")])
+
     def test_shader(self):
         fit = Fit(self.grid, self.builtin).run()
         p = fit.params_by_name()

@@ -173,6 +173,9 @@ _PROTOTYPES = {
     "brdffit_fit_iterations": (c_size_t, [_P]),
     "brdffit_fit_history": (c_size_t, [_P, _D, _D]),
     "brdffit_fit_passes": (c_size_t, [_P]),
+    "brdffit_fit_warnings": (c_uint, [_P]),
+    "brdffit_fit_warning_text": (c_int, [_P, c_uint, c_char_p, c_size_t]),
+    "brdffit_warning_name": (c_char_p, [c_uint]),
 }
 
 

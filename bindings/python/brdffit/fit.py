@@ -22,7 +22,7 @@ PIPELINES = {"auto": 0, "joint": 1, "two-stage": 2}
 METRICS = {"rms": 0, "ngan": 1, "cost": 2}
 #: Stop reason names, indexed by ``brdffit_stop_reason`` value.
 STOP_REASONS = ("none", "gradient", "step", "cost", "max-iterations", "max-evaluations",
-                "cancelled", "callback", "zero-cost")
+                "cancelled", "callback", "zero-cost", "stalled")
 
 # brdffit_fit_setting values
 _PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4, 5, 6
@@ -473,6 +473,25 @@ class Fit(Handle):
         """Passes over the samples the last run made."""
         with self._idle() as h:
             return lib.brdffit_fit_passes(h)
+
+    def warnings(self):
+        """The verdict on the last result: a list of ``(name, text)`` pairs,
+        one per warning of ``brdffit_fit_warnings()`` (a parameter at a
+        bound, no diffuse term, an albedo above 1, the iteration limit, a
+        stalled run, ...), empty for a sound fit or before a run. ``name``
+        is the short name (e.g. ``"at-bound"``), ``text`` one sentence
+        naming the parameter and values."""
+        out = []
+        with self._idle() as h:
+            bits = lib.brdffit_fit_warnings(h)
+            bit = 1
+            while bits >= bit:
+                if bits & bit:
+                    buf = ctypes.create_string_buffer(256)
+                    lib.brdffit_fit_warning_text(h, bit, buf, len(buf))
+                    out.append((lib.brdffit_warning_name(bit).decode(), buf.value.decode()))
+                bit <<= 1
+        return out
 
     def history(self):
         """``(cost, lambda)``: arrays of the start value and the value after
