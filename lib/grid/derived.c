@@ -1,6 +1,8 @@
 /* The values derived from a grid, computed here only: channel values with
  * their presence, the channel mean, the clear-coat divisor, the rows of a
- * fit; used by the derived grids of grid.c and by the fit's passes alike.
+ * fit; used by the derived grids (brdffit_grid_channel_mean(),
+ * brdffit_grid_clearcoat(), at the end of this file) and by the fit's
+ * passes alike.
  * Also what other layers read of a grid, through functions rather than its
  * fields. See grid_internal.h. */
 #include <math.h>
@@ -126,4 +128,138 @@ size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
 int bf_grid_has_rows(const bf_weight_plan *plan)
 {
     return count_rows(plan, BF_GRID_EVERY_CHANNEL, 0) > 0;
+}
+
+/* ---- derived grids ------------------------------------------------------ */
+
+static brdffit_status check_derive_args(brdffit_grid **out, const brdffit_grid *grid,
+                                        const brdffit_allocator *alloc, brdffit_error *err)
+{
+    if (out == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    if (grid == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "grid is NULL");
+    if (grid->magic != BF_MAGIC_GRID)
+        return bf_fail(err, BRDFFIT_E_BAD_HANDLE, "grid handle is invalid or destroyed");
+    if (!bf_grid_check_alloc(alloc))
+        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
+    return BRDFFIT_OK;
+}
+
+static void *copy_block(const brdffit_allocator *a, const void *src, size_t bytes)
+{
+    void *p = bf_malloc(a, bytes);
+    if (p != NULL) memcpy(p, src, bytes);
+    return p;
+}
+
+/* Copy src's samples (geometry, axes, sample weights) into g. */
+static brdffit_status copy_shape(brdffit_grid *g, const brdffit_grid *src, brdffit_error *err)
+{
+    size_t n = src->n_samples;
+    memcpy(g->geo.block, src->geo.block, n * 12 * sizeof(double));
+    if (src->kind == BRDFFIT_GRID_REGULAR) {
+        brdffit_axes axes = {src->axis[0],   src->n_axis[0], src->axis[1],
+                             src->n_axis[1], src->axis[2],   src->n_axis[2]};
+        return bf_grid_copy_axes(g, &axes, err);
+    }
+    g->max_theta = copy_block(&g->alloc, src->max_theta, n * sizeof(double));
+    if (g->max_theta == NULL) return bf_grid_oom(err);
+    if (src->sample_weight == NULL) return BRDFFIT_OK;
+    g->sample_weight = copy_block(&g->alloc, src->sample_weight, n * sizeof(double));
+    return g->sample_weight == NULL ? bf_grid_oom(err) : BRDFFIT_OK;
+}
+
+/* A new grid with src's samples and n_channels values per sample (to be
+ * filled by the caller), nothing missing yet. */
+static brdffit_status clone_shape(brdffit_grid **out, const brdffit_grid *src, size_t n_channels,
+                                  const brdffit_allocator *alloc, brdffit_error *err)
+{
+    brdffit_grid *g = NULL;
+    brdffit_status st;
+    BF_RETURN_IF_ERROR(bf_grid_new(&g, alloc, src->kind, src->n_samples, n_channels, err));
+    st = copy_shape(g, src, err);
+    if (st != BRDFFIT_OK) {
+        bf_grid_free(g);
+        return st;
+    }
+    *out = g;
+    return BRDFFIT_OK;
+}
+
+static int src_missing(const brdffit_grid *g, size_t c, size_t s)
+{
+    return g->missing != NULL && g->missing[c * g->n_samples + s];
+}
+
+static size_t count_all_missing(const brdffit_grid *g)
+{
+    size_t s, c, count = 0;
+    if (g->missing == NULL) return 0;
+    for (s = 0; s < g->n_samples; s++) {
+        for (c = 0; c < g->n_channels && src_missing(g, c, s); c++) continue;
+        count += c == g->n_channels;
+    }
+    return count;
+}
+
+brdffit_status brdffit_grid_channel_mean(brdffit_grid **out, const brdffit_grid *grid,
+                                         const brdffit_allocator *alloc, brdffit_error *err)
+{
+    brdffit_grid *g = NULL;
+    size_t s;
+    brdffit_status st;
+    BF_RETURN_IF_ERROR(check_derive_args(out, grid, alloc, err));
+    BF_RETURN_IF_ERROR(clone_shape(&g, grid, 1, alloc, err));
+    st = bf_grid_alloc_missing(g, count_all_missing(grid), err);
+    if (st != BRDFFIT_OK) {
+        bf_grid_free(g);
+        return st;
+    }
+    for (s = 0; s < g->n_samples; s++) {
+        double mean;
+        size_t present = bf_grid_sample_mean(grid, s, &mean);
+        g->values[s] = mean;
+        if (present == 0) g->missing[s] = 1;
+    }
+    *out = g;
+    return BRDFFIT_OK;
+}
+
+static brdffit_status apply_coat(brdffit_grid *g, const brdffit_grid *src, double r0,
+                                 brdffit_error *err)
+{
+    size_t s, c, n = g->n_samples;
+    for (s = 0; s < n; s++) {
+        double d = bf_grid_coat_divisor(r0, src->geo.lz[s]);
+        for (c = 0; c < g->n_channels; c++) {
+            size_t v = c * n + s;
+            g->values[v] = src->values[v] / d;
+            if (!isfinite(g->values[v]))
+                return bf_fail(err, BRDFFIT_E_RANGE,
+                               "clear-coat compensation of sample %zu, channel %zu overflows", s,
+                               c);
+        }
+    }
+    return BRDFFIT_OK;
+}
+
+brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdffit_grid *grid, double r0,
+                                      const brdffit_allocator *alloc, brdffit_error *err)
+{
+    brdffit_grid *g = NULL;
+    brdffit_status st;
+    BF_RETURN_IF_ERROR(check_derive_args(out, grid, alloc, err));
+    if (!(r0 >= 0.0 && r0 < 1.0))
+        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "r0 = %g is outside [0, 1)", r0);
+    BF_RETURN_IF_ERROR(clone_shape(&g, grid, grid->n_channels, alloc, err));
+    st = bf_grid_alloc_missing(g, grid->n_missing, err);
+    if (st == BRDFFIT_OK && g->missing != NULL)
+        memcpy(g->missing, grid->missing, g->n_samples * g->n_channels);
+    if (st == BRDFFIT_OK) st = apply_coat(g, grid, r0, err);
+    if (st != BRDFFIT_OK) {
+        bf_grid_free(g);
+        return st;
+    }
+    *out = g;
+    return BRDFFIT_OK;
 }

@@ -1,5 +1,6 @@
-/* The measurement grid: creation from memory, accessors, and the derived
- * grids (channel mean, clear-coat compensation). */
+/* The measurement grid: the default axes, allocation and validation shared
+ * by every constructor, regular grids, and the accessors. Scattered grids
+ * are made in scattered.c, derived grids in derived.c. */
 #include <math.h>
 #include <string.h>
 
@@ -47,7 +48,7 @@ int bf_grid_ok(const brdffit_grid *g)
     return g != NULL && g->magic == BF_MAGIC_GRID;
 }
 
-static void grid_free(brdffit_grid *g)
+void bf_grid_free(brdffit_grid *g)
 {
     brdffit_allocator a = g->alloc;
     bf_free(&a, g->axis[0]);
@@ -63,11 +64,11 @@ static void grid_free(brdffit_grid *g)
 void brdffit_grid_destroy(brdffit_grid *grid)
 {
     if (grid == NULL || grid->magic != BF_MAGIC_GRID) return;
-    grid_free(grid);
+    bf_grid_free(grid);
 }
 
 /* Every size derived from (n_samples, n_channels) must fit in size_t. */
-static brdffit_status check_sizes(size_t n_samples, size_t n_channels, brdffit_error *err)
+brdffit_status bf_grid_check_sizes(size_t n_samples, size_t n_channels, brdffit_error *err)
 {
     size_t n_values, bytes, geo;
     if (!bf_mul_size(n_samples, n_channels, &n_values) ||
@@ -78,14 +79,14 @@ static brdffit_status check_sizes(size_t n_samples, size_t n_channels, brdffit_e
     return BRDFFIT_OK;
 }
 
-static brdffit_status oom(brdffit_error *err)
+brdffit_status bf_grid_oom(brdffit_error *err)
 {
     return bf_fail(err, BRDFFIT_E_OUT_OF_MEMORY, "out of memory while creating a grid");
 }
 
 /* A grid with its value and geometry arrays allocated; every caller fills
- * all values. Sizes are checked by check_sizes() first. */
-static brdffit_status grid_new(brdffit_grid **out, const brdffit_allocator *alloc,
+ * all values. Sizes are checked by bf_grid_check_sizes() first. */
+brdffit_status bf_grid_new(brdffit_grid **out, const brdffit_allocator *alloc,
                                brdffit_grid_kind kind, size_t n_samples, size_t n_channels,
                                brdffit_error *err)
 {
@@ -93,7 +94,7 @@ static brdffit_status grid_new(brdffit_grid **out, const brdffit_allocator *allo
     brdffit_grid *g;
     bf_alloc_init(&a, alloc);
     g = bf_calloc(&a, 1, sizeof *g);
-    if (g == NULL) return oom(err);
+    if (g == NULL) return bf_grid_oom(err);
     g->magic = BF_MAGIC_GRID;
     g->alloc = a;
     g->kind = kind;
@@ -101,24 +102,24 @@ static brdffit_status grid_new(brdffit_grid **out, const brdffit_allocator *allo
     g->n_channels = n_channels;
     g->values = bf_malloc(&a, n_samples * n_channels * sizeof(double)); /* filled by callers */
     if (g->values == NULL || !bf_geometry_alloc(&g->geo, &a, n_samples)) {
-        grid_free(g);
-        return oom(err);
+        bf_grid_free(g);
+        return bf_grid_oom(err);
     }
     *out = g;
     return BRDFFIT_OK;
 }
 
-static brdffit_status alloc_missing(brdffit_grid *g, size_t n_missing, brdffit_error *err)
+brdffit_status bf_grid_alloc_missing(brdffit_grid *g, size_t n_missing, brdffit_error *err)
 {
     g->n_missing = n_missing;
     if (n_missing == 0) return BRDFFIT_OK;
     g->missing = bf_calloc(&g->alloc, g->n_samples * g->n_channels, 1);
-    return g->missing == NULL ? oom(err) : BRDFFIT_OK;
+    return g->missing == NULL ? bf_grid_oom(err) : BRDFFIT_OK;
 }
 
 /* ---- validation --------------------------------------------------------- */
 
-static int check_alloc(const brdffit_allocator *alloc)
+int bf_grid_check_alloc(const brdffit_allocator *alloc)
 {
     brdffit_allocator a;
     return bf_alloc_init(&a, alloc);
@@ -126,7 +127,7 @@ static int check_alloc(const brdffit_allocator *alloc)
 
 /* Count the missing values and check every present one: finite (negative
  * values are measurement noise, kept as data). */
-static brdffit_status check_values(const double *values, const unsigned char *missing,
+brdffit_status bf_grid_check_values(const double *values, const unsigned char *missing,
                                    size_t n_samples, size_t n_channels, size_t *n_missing,
                                    brdffit_error *err)
 {
@@ -145,7 +146,7 @@ static brdffit_status check_values(const double *values, const unsigned char *mi
 }
 
 /* Store interleaved input per channel; missing values become 0. */
-static void store_values(brdffit_grid *g, const double *values, const unsigned char *missing,
+void bf_grid_store_values(brdffit_grid *g, const double *values, const unsigned char *missing,
                          const size_t *order)
 {
     size_t s, c, n = g->n_samples, nc = g->n_channels;
@@ -200,11 +201,11 @@ static brdffit_status check_axes_args(const brdffit_axes *axes, size_t *n_sample
     return BRDFFIT_OK;
 }
 
-static brdffit_status copy_axes(brdffit_grid *g, const brdffit_axes *axes, brdffit_error *err)
+brdffit_status bf_grid_copy_axes(brdffit_grid *g, const brdffit_axes *axes, brdffit_error *err)
 {
     size_t total = axes->n_theta_i + axes->n_theta_o + axes->n_phi_o;
     double *block = bf_malloc(&g->alloc, total * sizeof(double));
-    if (block == NULL) return oom(err);
+    if (block == NULL) return bf_grid_oom(err);
     g->axis[0] = block;
     g->axis[1] = block + axes->n_theta_i;
     g->axis[2] = g->axis[1] + axes->n_theta_o;
@@ -238,185 +239,23 @@ brdffit_status brdffit_grid_create_regular(brdffit_grid **out, const brdffit_axe
     *out = NULL;
     if (values == NULL || n_channels == 0)
         return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "values is NULL or n_channels is 0");
-    if (!check_alloc(alloc))
+    if (!bf_grid_check_alloc(alloc))
         return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
     BF_RETURN_IF_ERROR(check_axes_args(axes, &n_samples, err));
-    BF_RETURN_IF_ERROR(check_sizes(n_samples, n_channels, err));
+    BF_RETURN_IF_ERROR(bf_grid_check_sizes(n_samples, n_channels, err));
     BF_RETURN_IF_ERROR(check_axis(axes->theta_i, axes->n_theta_i, 0, err));
     BF_RETURN_IF_ERROR(check_axis(axes->theta_o, axes->n_theta_o, 1, err));
     BF_RETURN_IF_ERROR(check_axis(axes->phi_o, axes->n_phi_o, 2, err));
-    BF_RETURN_IF_ERROR(check_values(values, missing, n_samples, n_channels, &n_missing, err));
-    BF_RETURN_IF_ERROR(grid_new(&g, alloc, BRDFFIT_GRID_REGULAR, n_samples, n_channels, err));
-    st = copy_axes(g, axes, err);
-    if (st == BRDFFIT_OK) st = alloc_missing(g, n_missing, err);
+    BF_RETURN_IF_ERROR(bf_grid_check_values(values, missing, n_samples, n_channels, &n_missing, err));
+    BF_RETURN_IF_ERROR(bf_grid_new(&g, alloc, BRDFFIT_GRID_REGULAR, n_samples, n_channels, err));
+    st = bf_grid_copy_axes(g, axes, err);
+    if (st == BRDFFIT_OK) st = bf_grid_alloc_missing(g, n_missing, err);
     if (st != BRDFFIT_OK) {
-        grid_free(g);
+        bf_grid_free(g);
         return st;
     }
-    store_values(g, values, missing, NULL);
+    bf_grid_store_values(g, values, missing, NULL);
     regular_geometry(g);
-    *out = g;
-    return BRDFFIT_OK;
-}
-
-/* ---- scattered grids ---------------------------------------------------- */
-
-typedef struct sort_item {
-    double key;
-    size_t index;
-} sort_item;
-
-/* Radix digits of the key: non-negative doubles order like their bit
- * patterns read as unsigned integers. */
-#define BF_RADIX_BITS 11
-#define BF_RADIX_SIZE ((size_t)1 << BF_RADIX_BITS)
-
-static size_t radix_digit(double key, unsigned shift)
-{
-    uint64_t u;
-    memcpy(&u, &key, sizeof u);
-    return (size_t)(u >> shift) & (BF_RADIX_SIZE - 1);
-}
-
-/* Stable LSD radix sort by key (all keys >= +0); returns the buffer that
- * holds the result. Passes where every key has the same digit are skipped. */
-static sort_item *radix_sort(sort_item *items, sort_item *tmp, size_t n)
-{
-    size_t count[BF_RADIX_SIZE], s, d;
-    unsigned shift;
-    for (shift = 0; shift < 64; shift += BF_RADIX_BITS) {
-        size_t pos = 0;
-        sort_item *t;
-        memset(count, 0, sizeof count);
-        for (s = 0; s < n; s++) count[radix_digit(items[s].key, shift)]++;
-        if (count[radix_digit(items[0].key, shift)] == n) continue;
-        for (d = 0; d < BF_RADIX_SIZE; d++) {
-            size_t c = count[d];
-            count[d] = pos;
-            pos += c;
-        }
-        for (s = 0; s < n; s++) tmp[count[radix_digit(items[s].key, shift)]++] = items[s];
-        t = items, items = tmp, tmp = t;
-    }
-    return items;
-}
-
-static int is_sorted(const sort_item *items, size_t n)
-{
-    size_t s;
-    for (s = 1; s < n; s++)
-        if (items[s].key < items[s - 1].key) return 0;
-    return 1;
-}
-
-static brdffit_status check_direction(double theta, double phi, size_t s, const char *which,
-                                      brdffit_error *err)
-{
-    if (!(theta >= 0.0 && theta <= BF_HALF_PI))
-        return bf_fail(err, BRDFFIT_E_RANGE, "theta_%s of sample %zu (%g) is outside [0, pi/2]",
-                       which, s, theta);
-    if (!(phi >= -2.0 * BF_PI && phi <= 2.0 * BF_PI))
-        return bf_fail(err, BRDFFIT_E_RANGE, "phi_%s of sample %zu (%g) is outside [-2 pi, 2 pi]",
-                       which, s, phi);
-    return BRDFFIT_OK;
-}
-
-typedef struct scattered_input {
-    size_t n;
-    const double *theta_i, *phi_i, *theta_o, *phi_o, *weights;
-} scattered_input;
-
-static brdffit_status check_scattered(const scattered_input *in, brdffit_error *err)
-{
-    size_t s;
-    for (s = 0; s < in->n; s++) {
-        BF_RETURN_IF_ERROR(check_direction(in->theta_i[s], in->phi_i[s], s, "i", err));
-        BF_RETURN_IF_ERROR(check_direction(in->theta_o[s], in->phi_o[s], s, "o", err));
-        if (in->weights != NULL && !(in->weights[s] >= 0.0 && isfinite(in->weights[s])))
-            return bf_fail(err, BRDFFIT_E_RANGE,
-                           "weight of sample %zu (%g) is not a finite number >= 0", s,
-                           in->weights[s]);
-    }
-    return BRDFFIT_OK;
-}
-
-/* The stored order: stable by max(theta_i, theta_o). Writes the source
- * index of every stored sample into order (n entries). */
-static brdffit_status sort_samples(brdffit_grid *g, const scattered_input *in, size_t *order,
-                                   brdffit_error *err)
-{
-    size_t s, n = in->n;
-    sort_item *items = bf_calloc(&g->alloc, n, 2 * sizeof(sort_item)), *sorted;
-    if (items == NULL) return oom(err);
-    for (s = 0; s < n; s++) {
-        double a = in->theta_i[s], b = in->theta_o[s];
-        items[s].key = (a > b ? a : b) + 0.0; /* + 0.0 turns -0 into +0 */
-        items[s].index = s;
-    }
-    sorted = is_sorted(items, n) ? items : radix_sort(items, items + n, n);
-    for (s = 0; s < n; s++) {
-        order[s] = sorted[s].index;
-        g->max_theta[s] = sorted[s].key;
-    }
-    bf_free(&g->alloc, items);
-    return BRDFFIT_OK;
-}
-
-static brdffit_status fill_scattered(brdffit_grid *g, const scattered_input *in,
-                                     const double *values, const unsigned char *missing,
-                                     brdffit_error *err)
-{
-    size_t s, n = in->n;
-    size_t *order = bf_calloc(&g->alloc, n, sizeof(size_t));
-    brdffit_status st;
-    if (order == NULL) return oom(err);
-    st = sort_samples(g, in, order, err);
-    if (st == BRDFFIT_OK) {
-        store_values(g, values, missing, order);
-        for (s = 0; s < n; s++) {
-            size_t k = order[s];
-            bf_geometry_set(&g->geo, s, in->theta_i[k], in->phi_i[k], in->theta_o[k], in->phi_o[k]);
-            if (g->sample_weight != NULL) g->sample_weight[s] = in->weights[k];
-        }
-    }
-    bf_free(&g->alloc, order);
-    return st;
-}
-
-brdffit_status brdffit_grid_create_scattered(brdffit_grid **out, size_t n_samples,
-                                             const double *theta_i, const double *phi_i,
-                                             const double *theta_o, const double *phi_o,
-                                             size_t n_channels, const double *values,
-                                             const unsigned char *missing, const double *weights,
-                                             const brdffit_allocator *alloc, brdffit_error *err)
-{
-    scattered_input in;
-    size_t n_missing = 0;
-    brdffit_grid *g = NULL;
-    brdffit_status st;
-    if (out == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "out is NULL");
-    *out = NULL;
-    if (theta_i == NULL || phi_i == NULL || theta_o == NULL || phi_o == NULL || values == NULL)
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "an angle or value array is NULL");
-    if (n_samples == 0 || n_channels == 0)
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "n_samples or n_channels is 0");
-    if (!check_alloc(alloc))
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
-    BF_RETURN_IF_ERROR(check_sizes(n_samples, n_channels, err));
-    in.n = n_samples, in.theta_i = theta_i, in.phi_i = phi_i, in.theta_o = theta_o;
-    in.phi_o = phi_o, in.weights = weights;
-    BF_RETURN_IF_ERROR(check_scattered(&in, err));
-    BF_RETURN_IF_ERROR(check_values(values, missing, n_samples, n_channels, &n_missing, err));
-    BF_RETURN_IF_ERROR(grid_new(&g, alloc, BRDFFIT_GRID_SCATTERED, n_samples, n_channels, err));
-    st = alloc_missing(g, n_missing, err);
-    g->max_theta = bf_calloc(&g->alloc, n_samples, sizeof(double));
-    if (weights != NULL) g->sample_weight = bf_calloc(&g->alloc, n_samples, sizeof(double));
-    if (st == BRDFFIT_OK && (g->max_theta == NULL || (weights && !g->sample_weight))) st = oom(err);
-    if (st == BRDFFIT_OK) st = fill_scattered(g, &in, values, missing, err);
-    if (st != BRDFFIT_OK) {
-        grid_free(g);
-        return st;
-    }
     *out = g;
     return BRDFFIT_OK;
 }
@@ -505,138 +344,4 @@ int brdffit_grid_is_missing(const brdffit_grid *grid, size_t sample, size_t chan
     if (!bf_grid_ok(grid) || grid->missing == NULL) return 0;
     if (sample >= grid->n_samples || channel >= grid->n_channels) return 0;
     return grid->missing[channel * grid->n_samples + sample] != 0;
-}
-
-/* ---- derived grids ------------------------------------------------------ */
-
-static brdffit_status check_derive_args(brdffit_grid **out, const brdffit_grid *grid,
-                                        const brdffit_allocator *alloc, brdffit_error *err)
-{
-    if (out == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "out is NULL");
-    *out = NULL;
-    if (grid == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "grid is NULL");
-    if (grid->magic != BF_MAGIC_GRID)
-        return bf_fail(err, BRDFFIT_E_BAD_HANDLE, "grid handle is invalid or destroyed");
-    if (!check_alloc(alloc))
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
-    return BRDFFIT_OK;
-}
-
-static void *copy_block(const brdffit_allocator *a, const void *src, size_t bytes)
-{
-    void *p = bf_malloc(a, bytes);
-    if (p != NULL) memcpy(p, src, bytes);
-    return p;
-}
-
-/* Copy src's samples (geometry, axes, sample weights) into g. */
-static brdffit_status copy_shape(brdffit_grid *g, const brdffit_grid *src, brdffit_error *err)
-{
-    size_t n = src->n_samples;
-    memcpy(g->geo.block, src->geo.block, n * 12 * sizeof(double));
-    if (src->kind == BRDFFIT_GRID_REGULAR) {
-        brdffit_axes axes = {src->axis[0],   src->n_axis[0], src->axis[1],
-                             src->n_axis[1], src->axis[2],   src->n_axis[2]};
-        return copy_axes(g, &axes, err);
-    }
-    g->max_theta = copy_block(&g->alloc, src->max_theta, n * sizeof(double));
-    if (g->max_theta == NULL) return oom(err);
-    if (src->sample_weight == NULL) return BRDFFIT_OK;
-    g->sample_weight = copy_block(&g->alloc, src->sample_weight, n * sizeof(double));
-    return g->sample_weight == NULL ? oom(err) : BRDFFIT_OK;
-}
-
-/* A new grid with src's samples and n_channels values per sample (to be
- * filled by the caller), nothing missing yet. */
-static brdffit_status clone_shape(brdffit_grid **out, const brdffit_grid *src, size_t n_channels,
-                                  const brdffit_allocator *alloc, brdffit_error *err)
-{
-    brdffit_grid *g = NULL;
-    brdffit_status st;
-    BF_RETURN_IF_ERROR(grid_new(&g, alloc, src->kind, src->n_samples, n_channels, err));
-    st = copy_shape(g, src, err);
-    if (st != BRDFFIT_OK) {
-        grid_free(g);
-        return st;
-    }
-    *out = g;
-    return BRDFFIT_OK;
-}
-
-static int src_missing(const brdffit_grid *g, size_t c, size_t s)
-{
-    return g->missing != NULL && g->missing[c * g->n_samples + s];
-}
-
-static size_t count_all_missing(const brdffit_grid *g)
-{
-    size_t s, c, count = 0;
-    if (g->missing == NULL) return 0;
-    for (s = 0; s < g->n_samples; s++) {
-        for (c = 0; c < g->n_channels && src_missing(g, c, s); c++) continue;
-        count += c == g->n_channels;
-    }
-    return count;
-}
-
-brdffit_status brdffit_grid_channel_mean(brdffit_grid **out, const brdffit_grid *grid,
-                                         const brdffit_allocator *alloc, brdffit_error *err)
-{
-    brdffit_grid *g = NULL;
-    size_t s;
-    brdffit_status st;
-    BF_RETURN_IF_ERROR(check_derive_args(out, grid, alloc, err));
-    BF_RETURN_IF_ERROR(clone_shape(&g, grid, 1, alloc, err));
-    st = alloc_missing(g, count_all_missing(grid), err);
-    if (st != BRDFFIT_OK) {
-        grid_free(g);
-        return st;
-    }
-    for (s = 0; s < g->n_samples; s++) {
-        double mean;
-        size_t present = bf_grid_sample_mean(grid, s, &mean);
-        g->values[s] = mean;
-        if (present == 0) g->missing[s] = 1;
-    }
-    *out = g;
-    return BRDFFIT_OK;
-}
-
-static brdffit_status apply_coat(brdffit_grid *g, const brdffit_grid *src, double r0,
-                                 brdffit_error *err)
-{
-    size_t s, c, n = g->n_samples;
-    for (s = 0; s < n; s++) {
-        double d = bf_grid_coat_divisor(r0, src->geo.lz[s]);
-        for (c = 0; c < g->n_channels; c++) {
-            size_t v = c * n + s;
-            g->values[v] = src->values[v] / d;
-            if (!isfinite(g->values[v]))
-                return bf_fail(err, BRDFFIT_E_RANGE,
-                               "clear-coat compensation of sample %zu, channel %zu overflows", s,
-                               c);
-        }
-    }
-    return BRDFFIT_OK;
-}
-
-brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdffit_grid *grid, double r0,
-                                      const brdffit_allocator *alloc, brdffit_error *err)
-{
-    brdffit_grid *g = NULL;
-    brdffit_status st;
-    BF_RETURN_IF_ERROR(check_derive_args(out, grid, alloc, err));
-    if (!(r0 >= 0.0 && r0 < 1.0))
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "r0 = %g is outside [0, 1)", r0);
-    BF_RETURN_IF_ERROR(clone_shape(&g, grid, grid->n_channels, alloc, err));
-    st = alloc_missing(g, grid->n_missing, err);
-    if (st == BRDFFIT_OK && g->missing != NULL)
-        memcpy(g->missing, grid->missing, g->n_samples * g->n_channels);
-    if (st == BRDFFIT_OK) st = apply_coat(g, grid, r0, err);
-    if (st != BRDFFIT_OK) {
-        grid_free(g);
-        return st;
-    }
-    *out = g;
-    return BRDFFIT_OK;
 }

@@ -48,6 +48,34 @@ struct brdffit_grid {
 /* Validate a grid handle (non-NULL, magic). */
 int bf_grid_ok(const brdffit_grid *g);
 
+/* ---- what the constructors share (grid.c) ---------------------------------- */
+
+/* Every size derived from (n_samples, n_channels) must fit in size_t. */
+brdffit_status bf_grid_check_sizes(size_t n_samples, size_t n_channels, brdffit_error *err);
+/* BRDFFIT_E_OUT_OF_MEMORY with the grid's message. */
+brdffit_status bf_grid_oom(brdffit_error *err);
+/* A grid with its value and geometry arrays allocated (sizes checked by
+ * bf_grid_check_sizes() first); the caller fills every value. */
+brdffit_status bf_grid_new(brdffit_grid **out, const brdffit_allocator *alloc,
+                           brdffit_grid_kind kind, size_t n_samples, size_t n_channels,
+                           brdffit_error *err);
+/* Copy the three axes into g (one allocation). */
+brdffit_status bf_grid_copy_axes(brdffit_grid *g, const brdffit_axes *axes, brdffit_error *err);
+/* Free a grid whatever its state of construction. */
+void bf_grid_free(brdffit_grid *g);
+/* Allocate the missing mask when n_missing > 0. */
+brdffit_status bf_grid_alloc_missing(brdffit_grid *g, size_t n_missing, brdffit_error *err);
+/* Whether an allocator given by the caller is complete (or NULL). */
+int bf_grid_check_alloc(const brdffit_allocator *alloc);
+/* Count the missing values and check every present one is finite. */
+brdffit_status bf_grid_check_values(const double *values, const unsigned char *missing,
+                                    size_t n_samples, size_t n_channels, size_t *n_missing,
+                                    brdffit_error *err);
+/* Store interleaved input per channel (sample s from input row order[s],
+ * or s when order is NULL); missing values become 0. */
+void bf_grid_store_values(brdffit_grid *g, const double *values, const unsigned char *missing,
+                          const size_t *order);
+
 /* Streaming weights for fits: active samples (theta_i, theta_o <= cap) in
  * chunks of at most BF_CHUNK contiguous samples, each with its residual
  * weight factor (brdffit_grid_weights() semantics). Chunks are independent,
