@@ -246,7 +246,8 @@ brdffit_status brdffit_grid_create_regular(brdffit_grid **out, const brdffit_axe
     BF_RETURN_IF_ERROR(check_axis(axes->theta_i, axes->n_theta_i, 0, err));
     BF_RETURN_IF_ERROR(check_axis(axes->theta_o, axes->n_theta_o, 1, err));
     BF_RETURN_IF_ERROR(check_axis(axes->phi_o, axes->n_phi_o, 2, err));
-    BF_RETURN_IF_ERROR(bf_grid_check_values(values, missing, n_samples, n_channels, &n_missing, err));
+    BF_RETURN_IF_ERROR(
+        bf_grid_check_values(values, missing, n_samples, n_channels, &n_missing, err));
     BF_RETURN_IF_ERROR(bf_grid_new(&g, alloc, BRDFFIT_GRID_REGULAR, n_samples, n_channels, err));
     st = bf_grid_copy_axes(g, axes, err);
     if (st == BRDFFIT_OK) st = bf_grid_alloc_missing(g, n_missing, err);

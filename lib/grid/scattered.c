@@ -153,12 +153,14 @@ brdffit_status brdffit_grid_create_scattered(brdffit_grid **out, size_t n_sample
     in.n = n_samples, in.theta_i = theta_i, in.phi_i = phi_i, in.theta_o = theta_o;
     in.phi_o = phi_o, in.weights = weights;
     BF_RETURN_IF_ERROR(check_scattered(&in, err));
-    BF_RETURN_IF_ERROR(bf_grid_check_values(values, missing, n_samples, n_channels, &n_missing, err));
+    BF_RETURN_IF_ERROR(
+        bf_grid_check_values(values, missing, n_samples, n_channels, &n_missing, err));
     BF_RETURN_IF_ERROR(bf_grid_new(&g, alloc, BRDFFIT_GRID_SCATTERED, n_samples, n_channels, err));
     st = bf_grid_alloc_missing(g, n_missing, err);
     g->max_theta = bf_calloc(&g->alloc, n_samples, sizeof(double));
     if (weights != NULL) g->sample_weight = bf_calloc(&g->alloc, n_samples, sizeof(double));
-    if (st == BRDFFIT_OK && (g->max_theta == NULL || (weights && !g->sample_weight))) st = bf_grid_oom(err);
+    if (st == BRDFFIT_OK && (g->max_theta == NULL || (weights && !g->sample_weight)))
+        st = bf_grid_oom(err);
     if (st == BRDFFIT_OK) st = fill_scattered(g, &in, values, missing, err);
     if (st != BRDFFIT_OK) {
         bf_grid_free(g);

@@ -15,12 +15,16 @@
 
 /* The checks every loader makes first: out not NULL (and set to NULL),
  * in not NULL, a complete allocator (copied into *a), and axes (when not
- * NULL) not empty and of at most 2^31 combinations. */
+ * NULL) as bf_load_axes_count() checks them for one channel. */
 brdffit_status bf_load_begin(brdffit_grid **out, const void *in, const brdffit_axes *axes,
                              const brdffit_allocator *alloc, brdffit_allocator *a,
                              brdffit_error *err);
-/* Number of combinations of the axes, checked as bf_load_begin() does. */
-brdffit_status bf_load_axes_count(const brdffit_axes *axes, size_t *n_samples, brdffit_error *err);
+/* Number of combinations of the axes: not empty, at most
+ * BF_LOAD_MAX_VALUES / n_channels of them, each axis inside its range and
+ * strictly increasing (the statuses of brdffit_grid_create_regular()), so
+ * that bad axes are refused before a file is opened. */
+brdffit_status bf_load_axes_count(const brdffit_axes *axes, size_t n_channels, size_t *n_samples,
+                                  brdffit_error *err);
 
 /* An open file whose size is known. */
 typedef struct bf_file {

@@ -300,44 +300,6 @@ static int resample(const unsigned char *data, const brdffit_axes *axes, merl_ar
     return any;
 }
 
-/* One axis as brdffit_grid_create_regular() checks it (same statuses), so
- * that bad axes are refused before the file is opened. */
-static brdffit_status check_axis_values(const double *x, size_t n, const char *name, double hi,
-                                        brdffit_error *err)
-{
-    size_t k;
-    for (k = 0; k < n; k++) {
-        if (!(x[k] >= 0.0 && x[k] <= hi))
-            return bf_fail(err, BRDFFIT_E_RANGE, "%s[%zu] = %g is outside [0, %.17g]", name, k,
-                           x[k], hi);
-        if (k > 0 && !(x[k] > x[k - 1]))
-            return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT,
-                           "%s is not strictly increasing at index %zu (%.17g after %.17g)", name,
-                           k, x[k], x[k - 1]);
-    }
-    return BRDFFIT_OK;
-}
-
-/* Sizes, ranges and order of the axes, checked before any allocation. */
-static brdffit_status check_axes(const brdffit_axes *axes, size_t *n_samples, brdffit_error *err)
-{
-    size_t n;
-    if (axes->theta_i == NULL || axes->theta_o == NULL || axes->phi_o == NULL ||
-        axes->n_theta_i == 0 || axes->n_theta_o == 0 || axes->n_phi_o == 0)
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "an axis is NULL or empty");
-    if (!bf_mul_size(axes->n_theta_i, axes->n_theta_o, &n) || !bf_mul_size(n, axes->n_phi_o, &n) ||
-        n > BF_LOAD_MAX_VALUES / 3)
-        return bf_fail(err, BRDFFIT_E_TOO_LARGE, "axes of %zu x %zu x %zu are too large",
-                       axes->n_theta_i, axes->n_theta_o, axes->n_phi_o);
-    BF_RETURN_IF_ERROR(check_axis_values(axes->theta_i, axes->n_theta_i, "theta_i",
-                                         BF_HALF_PI, err));
-    BF_RETURN_IF_ERROR(check_axis_values(axes->theta_o, axes->n_theta_o, "theta_o",
-                                         BF_HALF_PI, err));
-    BF_RETURN_IF_ERROR(check_axis_values(axes->phi_o, axes->n_phi_o, "phi_o", BF_PI, err));
-    *n_samples = n;
-    return BRDFFIT_OK;
-}
-
 static brdffit_status load_regular(brdffit_grid **out, const unsigned char *data,
                                    const brdffit_axes *axes, const brdffit_allocator *a,
                                    brdffit_error *err)
@@ -345,7 +307,7 @@ static brdffit_status load_regular(brdffit_grid **out, const unsigned char *data
     merl_arrays m = {NULL, NULL, NULL, NULL};
     size_t n = 0;
     brdffit_status st;
-    BF_RETURN_IF_ERROR(check_axes(axes, &n, err));
+    BF_RETURN_IF_ERROR(bf_load_axes_count(axes, 3, &n, err));
     m.values = bf_calloc(a, n, 3 * sizeof(double));
     m.missing = bf_calloc(a, n, 3);
     if (m.values == NULL || m.missing == NULL) {
@@ -368,12 +330,8 @@ static brdffit_status check_args(brdffit_grid **out, const void *in, const brdff
                                  brdffit_error *err)
 {
     size_t n;
-    if (out == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "out is NULL");
-    *out = NULL;
-    if (in == NULL) return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "path or data is NULL");
-    if (!bf_alloc_init(a, alloc))
-        return bf_fail(err, BRDFFIT_E_INVALID_ARGUMENT, "allocator lacks alloc or free");
-    return axes != NULL ? check_axes(axes, &n, err) : BRDFFIT_OK;
+    BF_RETURN_IF_ERROR(bf_load_begin(out, in, NULL, alloc, a, err));
+    return axes != NULL ? bf_load_axes_count(axes, 3, &n, err) : BRDFFIT_OK;
 }
 
 static brdffit_status decode(brdffit_grid **out, const unsigned char *data, size_t size,

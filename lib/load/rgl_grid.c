@@ -209,7 +209,7 @@ brdffit_status bf_rgl_regular(brdffit_grid **out, const rgl_file *f, const brdff
     double *values;
     unsigned char *missing;
     brdffit_status st;
-    BF_RETURN_IF_ERROR(bf_load_axes_count(axes, &n, err));
+    BF_RETURN_IF_ERROR(bf_load_axes_count(axes, 1, &n, err));
     if (!f->isotropic && f->reduction != 1)
         return bf_fail(err, BRDFFIT_E_UNSUPPORTED,
                        "resampling an anisotropic RGL file measured over 1/%d of the light "
