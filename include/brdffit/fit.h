@@ -68,14 +68,55 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_WEIGHTING = 3,      /**< ::brdffit_weighting flags; default ::BRDFFIT_WEIGHT_DEFAULT. */
     BRDFFIT_FIT_CLEARCOAT = 4,      /**< Clear-coat R0 in [0, 1); 0 (default) switches compensation off. */
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
-    BRDFFIT_FIT_MAX_ITERATIONS = 6  /**< Iteration limit of each LM run; default 200. */
+    BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
+    BRDFFIT_FIT_OBJECTIVE = 7       /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
 } brdffit_fit_setting;
+
+/**
+ * @brief What a fit minimises (::BRDFFIT_FIT_OBJECTIVE). Values are fixed
+ *        forever.
+ *
+ * Every objective is a sum of squared residuals r over the active samples s
+ * and channels c inside the cap; M is the model, R the measured value (as
+ * in the cost above), c_s = max(cos theta_i, 0), a_s the solid-angle weight
+ * alone (::BRDFFIT_WEIGHT_SOLID_ANGLE) and w_s the fit's residual weight
+ * (::BRDFFIT_FIT_WEIGHTING):
+ * - SQUARES: r = w_s (M - R), the cost above.
+ * - LOG: r = a_s (ln(1 + c_s M) - ln(1 + c_s R)). A measured value with
+ *   1 + c_s R <= 0 (a negative value at grazing light) has no logarithm:
+ *   brdffit_fit_run() refuses the data with ::BRDFFIT_E_RANGE.
+ * - CUBE_ROOT: r = a_s (cbrt(c_s M) - cbrt(c_s R)), the real cube root, so
+ *   negative measured values are fitted as they are. The derivative
+ *   c_s^(1/3) / (3 |M|^(2/3)) grows without bound as M -> 0; the Jacobian
+ *   uses max(|M|, delta) in its place (delta below), so it is exact wherever
+ *   |M| >= delta and finite everywhere; the cost is always exact.
+ * - RELATIVE: r = w_s (M - R) / (|R| + delta); a negative R counts by its
+ *   size.
+ *
+ * delta = 10^-3 times the mean |R| over the present values of every
+ * channel with a non-zero weight inside the cap (as stored, before any
+ * clear-coat division).
+ * The error figures e and E do not change with the objective; the cost
+ * (::BRDFFIT_METRIC_COST) is the objective's sum of r^2.
+ * The auto pipeline under LOG, CUBE_ROOT or RELATIVE scans the shape
+ * parameters on the SQUARES profile (colours solved exactly for squared
+ * values) and polishes every candidate by Levenberg-Marquardt under the
+ * objective: the polish reaches the objective's local optimum nearest to the
+ * squared-value global one, which need not be the objective's global
+ * optimum (docs/fitting.md).
+ */
+typedef enum brdffit_objective {
+    BRDFFIT_OBJECTIVE_SQUARES = 0,   /**< Weighted squares of values (the thesis's cost). */
+    BRDFFIT_OBJECTIVE_LOG = 1,       /**< Compressive log of cosine-weighted values. */
+    BRDFFIT_OBJECTIVE_CUBE_ROOT = 2, /**< Cube root of cosine-weighted values. */
+    BRDFFIT_OBJECTIVE_RELATIVE = 3   /**< Differences relative to the measured value. */
+} brdffit_objective;
 
 /** @brief Error figures reported by brdffit_fit_error(). Values are fixed forever. */
 typedef enum brdffit_fit_metric {
     BRDFFIT_METRIC_RMS = 0,  /**< e of eq. 4.1: sqrt of the sum of squared unweighted differences inside the cap. */
     BRDFFIT_METRIC_NGAN = 1, /**< E of eq. 3.5: sqrt(sum w (R cos - M cos)^2 / sum w), w the solid-angle weight. */
-    BRDFFIT_METRIC_COST = 2  /**< The weighted cost the fit minimises. */
+    BRDFFIT_METRIC_COST = 2  /**< The cost the fit minimises: the objective's sum of squared residuals (::brdffit_objective). */
 } brdffit_fit_metric;
 
 /** @brief Channel index meaning "all channels together" in brdffit_fit_error(). */

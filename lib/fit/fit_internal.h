@@ -26,6 +26,7 @@ struct brdffit_fit {
     double clearcoat;
     size_t threads;
     size_t max_iterations;
+    brdffit_objective objective;
     brdffit_damping damping;
     double *start;              /* n_vec: start values (model defaults unless set) */
     unsigned char *fixed;       /* per declared parameter */

@@ -5,6 +5,11 @@
  *   COST    [cost]
  *   NORMAL  [cost, J^T r (n), J^T J (n * n, upper triangle then mirrored)]
  *           in model-parameter space, n = model vector size, r = w (M - R)
+ *           under the squares objective, else the objective's residual
+ *           (brdffit_objective) with J its Jacobian
+ *   COST and NORMAL follow pb->objective; VARPRO is always the squares of
+ *   values (the auto scan's profile); METRICS's last sum is the
+ *   objective's sum of r^2
  *   VARPRO  per channel m: [R^T W R, B^T W R (K), B^T W B (K * K)], B the
  *           columns of the K linear parameters, W = diag(w^2)
  *   METRICS per channel m: [sum d^2, sum a (cos d)^2, sum a, sum (w d)^2],
@@ -15,14 +20,15 @@
  *
  * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
  * for models in basis form (models/basis.h) on grids without missing
- * values, the generic route for any model. bf_pass_prepare() chooses it
- * once per problem. */
+ * values under the squares objective, the generic route for any model and
+ * objective. bf_pass_prepare() chooses it once per problem. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
 #include <stdatomic.h>
 #include <stddef.h>
 
+#include "brdffit/fit.h"
 #include "brdffit/model.h"
 #include "fit/layout.h"
 #include "fit/pool.h"
@@ -51,6 +57,8 @@ typedef struct bf_problem {
     bf_source source;
     size_t source_channel;         /* BF_SOURCE_ONE_CHANNEL */
     double clearcoat;              /* R0; 0 = off */
+    brdffit_objective objective;   /* what COST, NORMAL and METRICS's cost sum */
+    double delta;                  /* the objective's floor (brdffit_objective) */
     bf_layout ly;                  /* the model's vector layout for nc channels */
     const size_t *vindex;          /* [k * nc + m]: vector index of declared k, channel m */
     size_t threads;                /* blocks of a pass (at most BF_MAX_THREADS) */

@@ -1,6 +1,7 @@
 /* The generic route of a pass (pass_route.h): any model, through its
  * evaluation callback, with the model's Jacobian per channel. Serves every
  * problem and every kind of pass. */
+#include <math.h>
 #include <string.h>
 
 #include "fit/pass_route.h"
@@ -40,6 +41,60 @@ static void weighted_residuals(const bf_scratch *sc, size_t m, size_t n, double 
     for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
 }
 
+/* The objective's residual of one value (brdffit_objective in fit.h), and
+ * its derivative in M into *slope. c = max(cos theta_i, 0). */
+static double objective_residual(const bf_problem *pb, double val, double meas, double c,
+                                 double *slope)
+{
+    double t;
+    switch (pb->objective) {
+    case BRDFFIT_OBJECTIVE_LOG:
+        *slope = c / (1.0 + c * val);
+        return log1p(c * val) - log1p(c * meas);
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT:
+        /* the slope's pole at M = 0 is floored at |M| = delta */
+        t = cbrt(fmax(fabs(val), pb->delta));
+        *slope = cbrt(c) / (3.0 * t * t);
+        return cbrt(c * val) - cbrt(c * meas);
+    case BRDFFIT_OBJECTIVE_RELATIVE:
+        *slope = 1.0 / (fabs(meas) + pb->delta);
+        return (val - meas) * *slope;
+    case BRDFFIT_OBJECTIVE_SQUARES: break;
+    }
+    *slope = 1.0;
+    return val - meas;
+}
+
+/* Objective residuals rd = rw r(value, measured) of channel m, and the
+ * row factors rw dr/dM into rw (in place). */
+static void objective_rows(const bf_problem *pb, const bf_scratch *sc, size_t m,
+                           const double *lz, size_t n, double *restrict rd, double *restrict rw)
+{
+    const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
+    size_t s;
+    for (s = 0; s < n; s++) {
+        double slope, c = lz[s] > 0.0 ? lz[s] : 0.0;
+        double r;
+        if (rw[s] == 0.0) {
+            rd[s] = 0.0; /* outside the fit or missing */
+            continue;
+        }
+        r = objective_residual(pb, val[s], meas[s], c, &slope);
+        rd[s] = rw[s] * r;
+        rw[s] *= slope;
+    }
+}
+
+/* The rows of channel m: weighted residuals into sc->d and row factors
+ * into sc->ww, squares exactly as ever, other objectives transformed. */
+static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz,
+                         size_t n)
+{
+    row_weights(sc, m, n, sc->ww);
+    if (pb->objective == BRDFFIT_OBJECTIVE_SQUARES) weighted_residuals(sc, m, n, sc->d);
+    else objective_rows(pb, sc, m, lz, n, sc->d, sc->ww);
+}
+
 static void scale_rows(double *restrict x, const double *restrict rw, size_t n)
 {
     size_t s;
@@ -65,12 +120,12 @@ static void normal_channel(const bf_problem *pb, const double *jac, size_t m, si
 
 /* J^T J, J^T r and the cost of the weighted rows: every Jacobian column is
  * scaled by the row weight in place, then all sums are plain dot products. */
-static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac, size_t n)
+static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac, const double *lz,
+                              size_t n)
 {
     size_t np = pb->ly.n_params, nc = pb->nc, m, k;
     for (m = 0; m < nc; m++) {
-        row_weights(sc, m, n, sc->ww);
-        weighted_residuals(sc, m, n, sc->d);
+        channel_rows(pb, sc, m, lz, n);
         sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
         for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
         normal_channel(pb, jac, m, n, sc->d, sc->acc + 1, sc->acc + 1 + pb->ly.n_vec);
@@ -99,18 +154,18 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
     }
 }
 
-static void accumulate_cost(const bf_problem *pb, bf_scratch *sc, size_t n)
+static void accumulate_cost(const bf_problem *pb, bf_scratch *sc, const double *lz, size_t n)
 {
     size_t m;
     for (m = 0; m < pb->nc; m++) {
-        row_weights(sc, m, n, sc->ww);
-        weighted_residuals(sc, m, n, sc->d);
+        channel_rows(pb, sc, m, lz, n);
         sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
     }
 }
 
 static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const double *lz, size_t n)
 {
+    int squares = pb->objective == BRDFFIT_OBJECTIVE_SQUARES;
     size_t m, s;
     for (m = 0; m < pb->nc; m++) {
         const double *meas = sc->meas + m * n, *val = sc->vals + m * n, *pres = sc->pres + m * n;
@@ -120,7 +175,12 @@ static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const doubl
             acc[0] += pres[s] * d * d;
             acc[1] += pres[s] * sc->wsa[s] * c * c * d * d;
             acc[2] += pres[s] * sc->wsa[s];
-            acc[3] += pres[s] * sc->w[s] * sc->w[s] * d * d;
+            if (squares) acc[3] += pres[s] * sc->w[s] * sc->w[s] * d * d;
+        }
+        if (!squares) {
+            /* the objective's cost in place of the squares */
+            channel_rows(pb, sc, m, lz, n);
+            acc[3] += bf_pass_dot(sc->d, sc->d, n);
         }
     }
 }
@@ -134,8 +194,8 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
     brdffit_status status = bf_model_eval(pb->model, batch, params, pb->nc, sc->vals, jac, err);
     if (status != BRDFFIT_OK) return status;
     switch (kind) {
-    case BF_PASS_COST: accumulate_cost(pb, sc, n); break;
-    case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, n); break;
+    case BF_PASS_COST: accumulate_cost(pb, sc, batch->lz, n); break;
+    case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, batch->lz, n); break;
     case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, n); break;
     case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
     }

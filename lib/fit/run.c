@@ -65,6 +65,59 @@ static brdffit_status check_rows(bf_run *run)
                   "is missing");
 }
 
+/* The plan whose weights the objective uses (as stage.c sets it). */
+static const bf_weight_plan *objective_plan(const bf_run *run)
+{
+    brdffit_objective o = run->fit->objective;
+    return o == BRDFFIT_OBJECTIVE_LOG || o == BRDFFIT_OBJECTIVE_CUBE_ROOT ? &run->plan_sa
+                                                                          : &run->plan;
+}
+
+/* Sum and count of |R| over chunk ci's fitted values; 0, or -1 with the
+ * first value whose log the log objective cannot take in *bad. */
+static int chunk_values(const bf_run *run, size_t ci, double *sum, double *count, double *bad)
+{
+    const brdffit_fit *fit = run->fit;
+    double w[BF_CHUNK], meas[BF_CHUNK], pres[BF_CHUNK];
+    size_t first, n, c, s;
+    brdffit_batch batch;
+    bf_weight_plan_chunk(objective_plan(run), ci, &first, &n, w);
+    bf_grid_batch(fit->grid, first, n, &batch);
+    for (c = 0; c < fit->nc; c++) {
+        bf_grid_load_channel(fit->grid, c, first, n, meas, pres);
+        for (s = 0; s < n; s++) {
+            double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0, r = meas[s];
+            if (w[s] == 0.0 || pres[s] == 0.0) continue;
+            if (fit->clearcoat > 0.0) r /= bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]);
+            *sum += fabs(meas[s]);
+            *count += 1.0;
+            if (fit->objective == BRDFFIT_OBJECTIVE_LOG && !(1.0 + cz * r > 0.0)) {
+                *bad = r;
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* The objective's floor delta (brdffit_objective: 1e-3 of the mean |R|),
+ * and the log objective's check that every 1 + cos(theta_i) R > 0. */
+static brdffit_status prepare_objective(bf_run *run)
+{
+    double sum = 0.0, count = 0.0, bad = 0.0;
+    size_t ci;
+    if (run->fit->objective == BRDFFIT_OBJECTIVE_SQUARES) return BRDFFIT_OK;
+    for (ci = 0; ci < objective_plan(run)->n_chunks; ci++)
+        if (chunk_values(run, ci, &sum, &count, &bad) != 0)
+            return bf_say(run->result->message, BRDFFIT_E_RANGE,
+                          "the log objective needs 1 + cos(theta_i) R > 0 for every measured "
+                          "value R inside the cap, and R = %g is not: use another objective",
+                          bad);
+    run->delta = count > 0.0 ? 1e-3 * sum / count : 0.0;
+    if (!(run->delta > 0.0)) run->delta = BF_FIT_VALUE_MIN;
+    return BRDFFIT_OK;
+}
+
 /* Helper threads for the run: one per pass block beyond the caller's. */
 static size_t helper_count(const bf_run *run)
 {
@@ -110,6 +163,7 @@ brdffit_status bf_run_fit(brdffit_fit *fit, bf_result *out)
     BF_RETURN_IF_ERROR(make_plans(&run));
     status = check_scale(&run);
     if (status == BRDFFIT_OK) status = check_rows(&run);
+    if (status == BRDFFIT_OK) status = prepare_objective(&run);
     if (status == BRDFFIT_OK) status = run_stages(&run);
     bf_weight_plan_free(&run.plan, &fit->alloc);
     bf_weight_plan_free(&run.plan_sa, &fit->alloc);

@@ -20,6 +20,7 @@ typedef struct bf_run {
     bf_weight_plan plan, plan_sa;
     bf_pool pool; /* fit->threads - 1 helpers for every pass of the run */
     bf_result *result;
+    double delta; /* the objective's floor (brdffit_objective) */
     int cancelled;
 } bf_run;
 
