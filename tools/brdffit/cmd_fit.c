@@ -19,6 +19,8 @@ static const char fit_help[] =
     "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
     "  --pipeline P          auto (default: global search, no start values), joint\n"
     "                        or two-stage (the thesis's method, from start values)\n"
+    "  --objective O         squares (default: the thesis's weighted squares), log,\n"
+    "                        cube-root or relative (docs/fitting.md)\n"
     "  --start LIST          start values, NAME=VALUE (all channels) or\n"
     "                        NAME=V1:V2:V3 (one per channel), comma-separated\n"
     "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
@@ -48,6 +50,7 @@ static const char fit_help[] =
 typedef struct fit_opts {
     const char *model_name, *start_text, *csv_path, *preview, *gltf, *mtlx;
     brdffit_pipeline pipeline;
+    brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
     unsigned weighting;
     size_t threads, max_iterations;
@@ -84,6 +87,7 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
     brdffit_status st = BRDFFIT_OK;
     double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
     if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, o->clearcoat)) != BRDFFIT_OK ||
@@ -383,7 +387,10 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->gltf = value;
     else if (strcmp(name, "mtlx") == 0)
         o->mtlx = value;
-    else if (strcmp(name, "pipeline") == 0) {
+    else if (strcmp(name, "objective") == 0) {
+        if (!cli_parse_objective(value, &o->objective))
+            return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
+    } else if (strcmp(name, "pipeline") == 0) {
         if (!parse_pipeline(value, &o->pipeline))
             return cli_usage_error("fit", "--pipeline is auto, joint or two-stage");
     } else if (strcmp(name, "cap") == 0) {
@@ -434,6 +441,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
+                                         {"objective", 1},
                                          {NULL, 0}};
     cli_args a;
     const char *name, *value;
@@ -515,6 +523,7 @@ static int fit_files(const fit_opts *o, char **files, size_t n_files)
             run.results[i].source = "";
             run.results[i].model = model;
             run.results[i].pipeline = o->pipeline;
+            run.results[i].objective = o->objective;
         }
         pthread_mutex_init(&run.lock, NULL);
         pthread_cond_init(&run.cond, NULL);
@@ -536,6 +545,7 @@ int cli_cmd_fit(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.model_name = "ashikhmin-shirley";
     o.pipeline = BRDFFIT_PIPELINE_AUTO;
+    o.objective = BRDFFIT_OBJECTIVE_SQUARES;
     o.cap = BRDFFIT_DEFAULT_CAP;
     o.weighting = BRDFFIT_WEIGHT_DEFAULT;
     o.gain = 3.0;

@@ -31,6 +31,26 @@ const char *cli_stop_token(brdffit_stop_reason reason)
     return "unknown";
 }
 
+static const char *const objective_names[] = {"squares", "log", "cube-root", "relative"};
+
+const char *cli_objective_name(brdffit_objective objective)
+{
+    return (size_t)objective < sizeof objective_names / sizeof *objective_names
+               ? objective_names[objective]
+               : "unknown";
+}
+
+int cli_parse_objective(const char *name, brdffit_objective *out)
+{
+    size_t k;
+    for (k = 0; k < sizeof objective_names / sizeof *objective_names; k++)
+        if (strcmp(name, objective_names[k]) == 0) {
+            *out = (brdffit_objective)k;
+            return 1;
+        }
+    return 0;
+}
+
 const char *cli_pipeline_name(brdffit_pipeline p)
 {
     switch (p) {
@@ -79,8 +99,11 @@ void fit_summary(cli_buf *b, const fit_result *r)
     cli_buf_printf(b, "  %-12s%s, %zu channel%s, %zu samples, %zu inside the cap\n", "data",
                    r->source, r->n_channels, r->n_channels == 1 ? "" : "s", r->n_samples,
                    r->n_active);
-    cli_buf_printf(b, "  %-12s%s, pipeline %s\n", "model", brdffit_model_name(r->model),
+    cli_buf_printf(b, "  %-12s%s, pipeline %s", "model", brdffit_model_name(r->model),
                    cli_pipeline_name(r->pipeline));
+    if (r->objective != BRDFFIT_OBJECTIVE_SQUARES)
+        cli_buf_printf(b, ", objective %s", cli_objective_name(r->objective));
+    cli_buf_puts(b, "\n");
     for (k = 0; k < n_decl; k++) summary_param(b, r, k);
     cli_buf_printf(b, "  %-12s", "shader");
     if (r->has_shader) {
@@ -212,6 +235,8 @@ void fit_json(cli_buf *b, const fit_result *r)
     cli_buf_json_string(b, r->source);
     cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu", r->n_samples, r->n_active);
     json_warnings(b, r);
+    cli_buf_puts(b, ", \"objective\": ");
+    cli_buf_json_string(b, cli_objective_name(r->objective));
     cli_buf_puts(b, "}\n");
 }
 

@@ -17,6 +17,7 @@ typedef struct fit_result {
     const char *source; /* what cli_load() said about the file */
     const brdffit_model *model;
     brdffit_pipeline pipeline;
+    brdffit_objective objective;
     int fitted;               /* the fit produced parameters */
     brdffit_status status;    /* the failure when not fitted */
     char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
@@ -33,6 +34,11 @@ typedef struct fit_result {
 } fit_result;
 
 void fit_result_free(fit_result *r);
+
+/* The objective's name on the command line and in JSON ("squares", "log",
+ * "cube-root", "relative"), and back; 0 for an unknown name. */
+const char *cli_objective_name(brdffit_objective objective);
+int cli_parse_objective(const char *name, brdffit_objective *out);
 
 /* The readable summary, the JSON object (one line, with '\n'), and the
  * CSV header and row (without '\n' for the header, with it for the row). */
