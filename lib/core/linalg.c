@@ -2,14 +2,15 @@
  * cyclic Jacobi eigen-decomposition, pseudo-inverses. See linalg.h. */
 #include "core/linalg.h"
 
+#include "core/core.h"
+
 #include <float.h>
 #include <math.h>
 
 enum { BF_JACOBI_MAX_SWEEPS = 64 };
 
-/* Dot product with four partial sums, so that the additions do not wait
- * on each other. */
-static double dot(const double *a, const double *b, size_t n)
+BF_VECTOR_CLONES
+double bf_dot(const double *restrict a, const double *restrict b, size_t n)
 {
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
     size_t k = 0;
@@ -29,7 +30,7 @@ int bf_cholesky(double *a, size_t n, double rtol)
     size_t i, j;
     for (j = 0; j < n; j++) {
         double *rj = a + j * n;
-        double d = rj[j] - dot(rj, rj, j), ljj;
+        double d = rj[j] - bf_dot(rj, rj, j), ljj;
         if (!(d > 0.0) || !isfinite(d)) return 0;
         if (d < dmin) dmin = d;
         if (d > dmax) dmax = d;
@@ -37,7 +38,7 @@ int bf_cholesky(double *a, size_t n, double rtol)
         rj[j] = ljj;
         for (i = j + 1; i < n; i++) {
             double *ri = a + i * n;
-            ri[j] = (ri[j] - dot(ri, rj, j)) / ljj;
+            ri[j] = (ri[j] - bf_dot(ri, rj, j)) / ljj;
         }
     }
     return n == 0 || dmin >= rtol * dmax;
@@ -48,7 +49,7 @@ void bf_cholesky_solve(const double *l, size_t n, double *b)
     size_t i, k;
     for (i = 0; i < n; i++) { /* L y = b */
         const double *ri = l + i * n;
-        b[i] = (b[i] - dot(ri, b, i)) / ri[i];
+        b[i] = (b[i] - bf_dot(ri, b, i)) / ri[i];
     }
     for (i = n; i-- > 0;) { /* L^T x = y */
         double s = b[i];

@@ -7,6 +7,11 @@
 
 #include <stddef.h>
 
+/* Sum of a[k] * b[k] with four independent partial sums in a fixed order,
+ * so the compiler can keep the loop in vector registers without
+ * reassociating anything: the same result on every machine and clone. */
+double bf_dot(const double *restrict a, const double *restrict b, size_t n);
+
 /* Relative threshold shared by the Cholesky conditioning check (smallest
  * squared pivot over the largest) and the pseudo-inverse (eigenvalues at
  * or below this fraction of the largest count as zero). */

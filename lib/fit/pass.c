@@ -124,24 +124,6 @@ static void load_measured(const bf_problem *pb, const brdffit_batch *batch, size
     }
 }
 
-/* Sum of a[s] * b[s] with four independent partial sums, so the compiler
- * can keep the loop in vector registers without reassociating anything:
- * the result is the same on every machine. */
-BF_VECTOR_CLONES
-double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n)
-{
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-    size_t s = 0;
-    for (; s + 4 <= n; s += 4) {
-        s0 += a[s] * b[s];
-        s1 += a[s + 1] * b[s + 1];
-        s2 += a[s + 2] * b[s + 2];
-        s3 += a[s + 3] * b[s + 3];
-    }
-    for (; s < n; s++) s0 += a[s] * b[s];
-    return (s0 + s1) + (s2 + s3);
-}
-
 static brdffit_status run_chunk(worker *wk, size_t ci)
 {
     const bf_problem *pb = wk->pb;

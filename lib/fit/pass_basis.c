@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/linalg.h"
 #include "fit/pass_route.h"
 #include "models/basis.h"
 
@@ -118,12 +119,12 @@ static void block_normal(const bf_problem *pb, const double *params, const ebasi
     for (a = 0; a < eb->NE; a++)
         for (b = a; b < eb->NE; b++)
             G[a * eb->NE + b] +=
-                bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+                bf_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
     for (c = 0; c < pb->nc; c++) {
         residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
-        acc[0] += bf_pass_dot(dw, dw, count);
+        acc[0] += bf_dot(dw, dw, count);
         for (a = 0; a < eb->NE; a++)
-            H[c * eb->NE + a] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, dw, count);
+            H[c * eb->NE + a] += bf_dot(u + a * BF_KERNEL_BLOCK, dw, count);
     }
 }
 
@@ -134,7 +135,7 @@ static void block_cost(const bf_problem *pb, const double *params, const ebasis 
     size_t c;
     for (c = 0; c < pb->nc; c++) {
         residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
-        sc->acc[0] += bf_pass_dot(dw, dw, count);
+        sc->acc[0] += bf_dot(dw, dw, count);
     }
 }
 
@@ -149,13 +150,13 @@ static void block_varpro(const bf_problem *pb, const ebasis *eb, const bf_basis 
     for (a = 0; a < eb->L; a++)
         for (b = a; b < eb->L; b++)
             G[a * eb->L + b] +=
-                bf_pass_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+                bf_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
     for (c = 0; c < pb->nc; c++) {
         const double *restrict meas = sc->meas + c * n + off;
         for (i = 0; i < count; i++) rw[i] = w[i] * meas[i];
-        rr[c] += bf_pass_dot(rw, rw, count);
+        rr[c] += bf_dot(rw, rw, count);
         for (a = 0; a < eb->L; a++)
-            bvec[c * eb->L + a] += bf_pass_dot(u + a * BF_KERNEL_BLOCK, rw, count);
+            bvec[c * eb->L + a] += bf_dot(u + a * BF_KERNEL_BLOCK, rw, count);
     }
 }
 

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg.h"
 #include "fit/pass_route.h"
 #include "models/models.h"
 
@@ -109,11 +110,11 @@ static void normal_channel(const bf_problem *pb, const double *jac, size_t m, si
     for (k = 0; k < np; k++) {
         const double *jk = jac + (k * nc + m) * n;
         size_t a = pb->vindex[k * nc + m];
-        jtr[a] += bf_pass_dot(jk, d, n);
+        jtr[a] += bf_dot(jk, d, n);
         for (l = k; l < np; l++) {
             size_t b = pb->vindex[l * nc + m];
             size_t lo = a < b ? a : b, hi = a < b ? b : a;
-            jtj[lo * nv + hi] += bf_pass_dot(jk, jac + (l * nc + m) * n, n);
+            jtj[lo * nv + hi] += bf_dot(jk, jac + (l * nc + m) * n, n);
         }
     }
 }
@@ -126,7 +127,7 @@ static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac,
     size_t np = pb->ly.n_params, nc = pb->nc, m, k;
     for (m = 0; m < nc; m++) {
         channel_rows(pb, sc, m, lz, n);
-        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
+        sc->acc[0] += bf_dot(sc->d, sc->d, n);
         for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
         normal_channel(pb, jac, m, n, sc->d, sc->acc + 1, sc->acc + 1 + pb->ly.n_vec);
     }
@@ -144,12 +145,12 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
         row_weights(sc, m, n, sc->ww);
         memcpy(rm, sc->meas + m * n, n * sizeof *rm);
         scale_rows(rm, sc->ww, n);
-        acc[0] += bf_pass_dot(rm, rm, n);
+        acc[0] += bf_dot(rm, rm, n);
         for (q = 0; q < K; q++) scale_rows(jac + (lin[q] * nc + m) * n, sc->ww, n);
         for (q = 0; q < K; q++) {
             const double *bq = jac + (lin[q] * nc + m) * n;
-            b[q] += bf_pass_dot(bq, rm, n);
-            for (r = q; r < K; r++) G[q * K + r] += bf_pass_dot(bq, jac + (lin[r] * nc + m) * n, n);
+            b[q] += bf_dot(bq, rm, n);
+            for (r = q; r < K; r++) G[q * K + r] += bf_dot(bq, jac + (lin[r] * nc + m) * n, n);
         }
     }
 }
@@ -159,7 +160,7 @@ static void accumulate_cost(const bf_problem *pb, bf_scratch *sc, const double *
     size_t m;
     for (m = 0; m < pb->nc; m++) {
         channel_rows(pb, sc, m, lz, n);
-        sc->acc[0] += bf_pass_dot(sc->d, sc->d, n);
+        sc->acc[0] += bf_dot(sc->d, sc->d, n);
     }
 }
 
@@ -180,7 +181,7 @@ static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const doubl
         if (!squares) {
             /* the objective's cost in place of the squares */
             channel_rows(pb, sc, m, lz, n);
-            acc[3] += bf_pass_dot(sc->d, sc->d, n);
+            acc[3] += bf_dot(sc->d, sc->d, n);
         }
     }
 }

@@ -40,7 +40,6 @@ typedef struct bf_route {
 extern const bf_route bf_route_generic; /* pass_generic.c */
 extern const bf_route bf_route_basis;   /* pass_basis.c */
 
-/* Sum of a[s] * b[s] in a fixed order (four partial sums). */
-double bf_pass_dot(const double *restrict a, const double *restrict b, size_t n);
+/* The passes' dot product is bf_dot() of core/linalg.h. */
 
 #endif /* BRDFFIT_FIT_PASS_ROUTE_H */
