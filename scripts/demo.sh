@@ -13,7 +13,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 . scripts/common.sh
 
 model=${1:-ashikhmin-shirley}
-install_packages demo.sh cmake make gcc libc6-dev libpng-dev pkg-config
+install_packages demo.sh cmake make gcc libc6-dev libcairo2-dev fonts-dejavu-core pkg-config
 
 log "build (build-demo)"
 cmake -S . -B build-demo -DCMAKE_BUILD_TYPE=Release -DBRDFFIT_BUILD_TESTS=OFF > /dev/null

@@ -44,7 +44,8 @@ packages=(
     pkg-config
     abigail-tools    # abidw/abidiff for the ABI check
     doxygen
-    libpng-dev       # PNG previews of the brdffit command (tools/)
+    libcairo2-dev    # the brdffit command draws and writes its PNG previews with cairo (tools/)
+    fonts-dejavu-core # the font of the preview's text
     python3          # the Python binding's tests (tests/python)
     python3-numpy
     python3-cffi

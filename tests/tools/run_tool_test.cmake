@@ -432,7 +432,7 @@ elseif(MODE STREQUAL "stdout_unwritable")
 
 elseif(MODE STREQUAL "preview_png")
   if(NOT PREVIEW_ARGS)
-    skip("brdffit was built without libpng")
+    skip("brdffit was built without cairo")
     return()
   endif()
   run(r fit --preview out.png --gain 2 --gamma 2 ${SAMPLE})
@@ -471,7 +471,7 @@ elseif(MODE STREQUAL "preview_png")
 
 elseif(MODE STREQUAL "preview_failure")
   if(NOT PREVIEW_ARGS)
-    skip("brdffit was built without libpng")
+    skip("brdffit was built without cairo")
     return()
   endif()
   # An unwritable place: the error names the input, no file appears.

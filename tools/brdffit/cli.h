@@ -145,31 +145,23 @@ void cli_assign_free(cli_assign_list *list);
 int cli_assign_vector(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
                       double *params, char *msg, size_t msg_size);
 
-/* --- preview.c / png.c ------------------------------------------------------- */
+/* --- preview*.c (cairo) ------------------------------------------------------ */
 
 typedef struct cli_preview_input {
-    const char *title; /* drawn at the top (capitals) */
+    const char *title; /* drawn at the top */
     const brdffit_grid *grid;
     const brdffit_model *model;
     const double *params;
-    const double *history; /* cost per iteration */
+    const double *history; /* cost per iteration of the final LM run */
     size_t n_history;
     double gain, gamma;
+    double rms, ngan, cost; /* e, E and the cost of the fit */
+    double cap;             /* angle cap, radians */
 } cli_preview_input;
 
-/* An RGB picture owned by the caller (free pixels with free()). */
-typedef struct cli_picture {
-    unsigned char *pixels;
-    size_t width, height;
-} cli_picture;
-
-/* font.c: 5 x 7 pixel text, clipped to the picture. */
-#define CLI_GLYPH_ADVANCE 6
-#define CLI_GLYPH_HEIGHT 7
-void cli_draw_text(unsigned char *px, size_t stride, size_t width, size_t height, size_t x,
-                   size_t y, const char *text, const unsigned char rgb[3]);
-
-int cli_preview_render(const cli_preview_input *in, cli_picture *out, char *msg, size_t msg_size);
+/* Draws the preview and writes it as PNG, atomically (cli_write_atomic). */
+int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
+                      size_t msg_size);
 /* preview_name.c: the picture name of one input, every %s of the pattern
  * replaced by the input's base name (NULL when out of memory; free() it). */
 char *cli_preview_name(const char *pattern, const char *path);
@@ -179,10 +171,8 @@ char *cli_preview_name(const char *pattern, const char *path);
  * of memory). */
 int cli_output_names_check(const char *option, const char *pattern, char **files,
                            size_t n_files);
+/* 1 when the command was built with cairo (PNG previews). */
 int cli_png_available(void);
-/* Write a picture as PNG, atomically (see cli_write_atomic). */
-int cli_png_write(const char *path, const cli_picture *pic, const char *description, char *msg,
-                  size_t msg_size);
 
 /* --- subcommands ------------------------------------------------------------- */
 

@@ -147,8 +147,7 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
                           fit_result *r)
 {
     cli_preview_input in;
-    cli_picture pic = {NULL, 0, 0};
-    char msg[CLI_MSG_SIZE], desc[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
+    char msg[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
     char *name = cli_preview_name(run->opts->preview, r->path);
     double *history = NULL;
     size_t n = brdffit_fit_history(fit, NULL, NULL);
@@ -165,19 +164,20 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
     in.n_history = n;
     in.gain = run->opts->gain;
     in.gamma = run->opts->gamma;
-    cli_format(desc, sizeof desc, "brdffit fit preview of %s, model %s", r->path,
-               brdffit_model_name(run->model));
+    in.rms = r->rms;
+    in.ngan = r->ngan;
+    in.cost = r->cost;
+    in.cap = run->opts->cap;
     cli_base_name(r->path, base, sizeof base);
-    cli_format(title, sizeof title, "%s: %s, %s pipeline, e %.3g, E %.3g", base,
-               brdffit_model_name(run->model), cli_pipeline_name(r->pipeline), r->rms, r->ngan);
+    cli_format(title, sizeof title, "%s: %s, %s pipeline, %s objective, %zu iterations, stop: %s",
+               base, brdffit_model_name(run->model), cli_pipeline_name(r->pipeline),
+               cli_objective_name(r->objective), r->iterations, cli_stop_token(r->stop));
     in.title = title;
-    if (cli_preview_render(&in, &pic, msg, sizeof msg) != 0 ||
-        cli_png_write(name, &pic, desc, msg, sizeof msg) != 0) {
+    if (cli_preview_write(&in, name, msg, sizeof msg) != 0) {
         char full[CLI_MSG_SIZE + 300];
         cli_format(full, sizeof full, "preview %s: %s", name, msg);
         fail(r, BRDFFIT_E_IO, full);
     }
-    free(pic.pixels);
     free(history);
     free(name);
 }
@@ -474,7 +474,7 @@ static int check_options(const fit_opts *o, char **files, int n_files)
     if (n_files == 0) return cli_usage_error("fit", "no FILE given");
     if (o->preview != NULL && !cli_png_available())
         return cli_usage_error("fit", "--preview is not available: brdffit was built without "
-                                      "libpng");
+                                      "cairo");
     if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
         return cli_usage_error("fit", "--preview with several files needs %%s in its name");
     if ((o->gltf != NULL || o->mtlx != NULL) && !cli_gltf_exportable(o->model_name))

@@ -1,45 +1,36 @@
-/* The --preview picture (docs/cli.md): a title line; measured, difference
- * and model textures side by side on the left; on the right spheres with
- * the measured BRDF (top row) and the fitted model (bottom row) under
- * light at 0, 30 and 60 deg, and the cost per iteration on a log scale.
- * Every panel has a label above it. Drawn with image.h. */
-#include <stdint.h>
+/* The --preview picture (docs/cli.md), drawn with cairo: a title and the
+ * fit's figures; on the left the measured, difference and model textures
+ * of a regular grid with their axes and colour scales (preview_tex.c), or
+ * for a scattered measurement its values against the half-angle; on the
+ * right spheres lit at 0, 30 and 60 deg (measured above, model below), the
+ * cost per iteration and, for a regular grid, the values against the
+ * half-angle (preview_plot.c). The library renders the pixels of textures
+ * and spheres (image.h); text, axes and legends are cairo's. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "preview.h"
 
-#define PI 3.14159265358979323846
-#define GAP 8
-#define LABEL_H (CLI_GLYPH_HEIGHT + 4)
-#define SPHERE 140
-#define PLOT_H 200
-#define MAX_TEXTURE_H 1000
+#define SPHERE 150
+#define RIGHT_W (3.0 * SPHERE + 2.0 * PV_GAP)
+#define LABEL 18.0
+#define HEAD 54.0
+#define COST_H 240.0
+#define HALF_H 300.0
+#define SCATTER_W 720.0
+#define SCATTER_H 540.0
 
 static const double light_deg[3] = {0.0, 30.0, 60.0};
-static const unsigned char page[3] = {24, 24, 24};
-static const unsigned char ink[3] = {220, 220, 220};
 
-typedef struct layout {
-    size_t tex_w, tex_h; /* one texture; 0 when the grid is scattered */
-    size_t top;          /* first row below the title */
-    size_t right_x;      /* left edge of the sphere and plot column */
-    size_t width, height;
-} layout;
+typedef struct page {
+    int regular;
+    pv_textures tex;
+    double left_w, left_h, right_x, width, height;
+} page;
 
-typedef struct canvas {
-    unsigned char *px;
-    size_t stride, width, height;
-} canvas;
-
-static unsigned char *at(const canvas *c, size_t x, size_t y)
+int cli_png_available(void)
 {
-    return c->px + y * c->stride + 3 * x;
-}
-
-static void label(const canvas *c, size_t x, size_t y, const char *text)
-{
-    cli_draw_text(c->px, c->stride, c->width, c->height, x, y, text, ink);
+    return 1;
 }
 
 static brdffit_image_options base_options(const cli_preview_input *in)
@@ -47,152 +38,149 @@ static brdffit_image_options base_options(const cli_preview_input *in)
     brdffit_image_options o = BRDFFIT_IMAGE_OPTIONS_INIT;
     o.gain = in->gain;
     o.difference_gain = in->gain;
-    o.exposure = PI * in->gain / 3.0;
+    o.exposure = PV_PI * in->gain / 3.0;
     o.gamma = in->gamma;
     return o;
 }
 
-/* Texture options: blocks stacked, 1 pixel apart, wrapped into columns of
- * blocks when the stack would be taller than MAX_TEXTURE_H. */
-static int texture_options(const cli_preview_input *in, brdffit_image_options *o, layout *l,
-                           char *msg, size_t msg_size)
+static double right_height(const page *p)
 {
-    brdffit_error err;
-    o->block_gap = 1;
-    l->tex_w = l->tex_h = 0;
-    if (brdffit_grid_get_kind(in->grid) != BRDFFIT_GRID_REGULAR) return 0;
-    if (brdffit_image_texture_size(in->grid, o, &l->tex_w, &l->tex_h, &err) == BRDFFIT_OK &&
-        l->tex_h > MAX_TEXTURE_H) {
-        o->block_columns = (l->tex_h + MAX_TEXTURE_H - 1) / MAX_TEXTURE_H;
-        if (brdffit_image_texture_size(in->grid, o, &l->tex_w, &l->tex_h, &err) == BRDFFIT_OK)
-            return 0;
-    } else if (l->tex_w > 0)
-        return 0;
-    cli_format(msg, msg_size, "%s", err.message);
-    return -1;
+    double rows = p->regular ? 2.0 : 1.0;
+    return rows * (LABEL + SPHERE + PV_GAP) + COST_H + PV_GAP + (p->regular ? HALF_H : 40.0);
 }
 
-static void compute_layout(layout *l)
+static int compute_page(const cli_preview_input *in, page *p, char *msg, size_t msg_size)
 {
-    size_t right_w = 3 * SPHERE + 2 * GAP;
-    size_t right_h = 3 * LABEL_H + 2 * SPHERE + 2 * GAP + PLOT_H;
-    size_t left_w = l->tex_w > 0 ? 3 * l->tex_w + 3 * GAP : 0;
-    size_t left_h = l->tex_w > 0 ? LABEL_H + l->tex_h : 0;
-    l->top = GAP + LABEL_H + GAP / 2;
-    l->right_x = GAP + left_w;
-    l->width = l->right_x + right_w + GAP;
-    l->height = l->top + (left_h > right_h ? left_h : right_h) + GAP;
-}
-
-static int textures(const cli_preview_input *in, const canvas *c, const layout *l,
-                    const brdffit_image_options *o, brdffit_error *err)
-{
-    static const brdffit_texture_kind kinds[3] = {
-        BRDFFIT_TEXTURE_MEASURED, BRDFFIT_TEXTURE_DIFFERENCE, BRDFFIT_TEXTURE_MODEL};
-    static const char *const names[3] = {"MEASURED", "DIFFERENCE", "MODEL"};
-    size_t k;
-    for (k = 0; k < 3 && l->tex_w > 0; k++) {
-        size_t x = GAP + k * (l->tex_w + GAP);
-        label(c, x, l->top, names[k]);
-        if (brdffit_image_texture(at(c, x, l->top + LABEL_H), c->stride, kinds[k], in->grid,
-                                  in->model, in->params, o, NULL, err) != BRDFFIT_OK)
-            return -1;
+    double right_h;
+    p->regular = brdffit_grid_get_kind(in->grid) == BRDFFIT_GRID_REGULAR;
+    if (p->regular) {
+        if (pv_textures_layout(in->grid, &p->tex, msg, msg_size) != 0) return -1;
+        p->left_w = p->tex.width;
+        p->left_h = p->tex.height;
+    } else {
+        p->left_w = SCATTER_W;
+        p->left_h = SCATTER_H;
     }
+    right_h = right_height(p);
+    p->right_x = PV_GAP + p->left_w + PV_GAP;
+    p->width = p->right_x + RIGHT_W + PV_GAP;
+    p->height = HEAD + (p->left_h > right_h ? p->left_h : right_h) + PV_GAP;
     return 0;
 }
 
-static int spheres(const cli_preview_input *in, const canvas *c, const layout *l,
+/* The title (shrunk to fit the width) and a line with the figures. */
+static void title(cairo_t *cr, const cli_preview_input *in, const page *p)
+{
+    char line[512];
+    double size = DRAW_TITLE, w = draw_text_width(cr, size, 1, in->title);
+    if (w > p->width - 2 * PV_GAP) size *= (p->width - 2 * PV_GAP) / w;
+    draw_grey(cr, 0.95);
+    draw_text(cr, PV_GAP, 8, size, 1, 0.0, in->title);
+    cli_format(line, sizeof line,
+               "e = %.4g (root of the summed squared differences)    E = %.4g (Ngan et al. "
+               "error)    cost %.4g    cap %g\u00b0    gain %g, gamma %g",
+               in->rms, in->ngan, in->cost, in->cap * 180.0 / PV_PI, in->gain, in->gamma);
+    size = DRAW_TEXT;
+    w = draw_text_width(cr, size, 0, line);
+    if (w > p->width - 2 * PV_GAP) size *= (p->width - 2 * PV_GAP) / w;
+    draw_grey(cr, 0.8);
+    draw_text(cr, PV_GAP, 30, size, 0, 0.0, line);
+}
+
+static int one_sphere(cairo_t *cr, const cli_preview_input *in, int measured, double theta,
+                      double x, double y, const brdffit_image_options *o, brdffit_error *err)
+{
+    unsigned char *px = malloc(3 * SPHERE * SPHERE);
+    brdffit_status st;
+    if (px == NULL) {
+        cli_format(err->message, sizeof err->message, "out of memory");
+        return -1;
+    }
+    st = measured ? brdffit_image_sphere_measured(px, 3 * SPHERE, SPHERE, in->grid, theta, 0.0,
+                                                  o, NULL, err)
+                  : brdffit_image_sphere_model(px, 3 * SPHERE, SPHERE, in->model, in->params,
+                                               brdffit_grid_channel_count(in->grid), theta, 0.0,
+                                               o, NULL, err);
+    if (st == BRDFFIT_OK) draw_pixels(cr, px, 3 * SPHERE, SPHERE, SPHERE, x, y, SPHERE, SPHERE);
+    free(px);
+    return st == BRDFFIT_OK ? 0 : -1;
+}
+
+static int spheres(cairo_t *cr, const cli_preview_input *in, const page *p,
                    const brdffit_image_options *o, brdffit_error *err)
 {
-    size_t k, nc = brdffit_grid_channel_count(in->grid);
-    size_t y1 = l->top + LABEL_H, y2 = y1 + SPHERE + GAP + LABEL_H;
-    int regular = brdffit_grid_get_kind(in->grid) == BRDFFIT_GRID_REGULAR;
-    for (k = 0; k < 3; k++) {
-        size_t x = l->right_x + k * (SPHERE + GAP);
-        double theta = light_deg[k] * PI / 180.0;
-        char text[64];
-        cli_format(text, sizeof text, "%s, LIGHT %g DEG", regular ? "MEASURED" : "(NO GRID)",
-                   light_deg[k]);
-        label(c, x, y1 - LABEL_H, text);
-        cli_format(text, sizeof text, "MODEL, LIGHT %g DEG", light_deg[k]);
-        label(c, x, y2 - LABEL_H, text);
-        if (regular && brdffit_image_sphere_measured(at(c, x, y1), c->stride, SPHERE, in->grid,
-                                                     theta, 0.0, o, NULL, err) != BRDFFIT_OK)
-            return -1;
-        if (brdffit_image_sphere_model(at(c, x, y2), c->stride, SPHERE, in->model, in->params, nc,
-                                       theta, 0.0, o, NULL, err) != BRDFFIT_OK)
-            return -1;
+    int row, k, rows = p->regular ? 2 : 1;
+    for (row = 0; row < rows; row++) {
+        int measured = p->regular && row == 0;
+        double y = HEAD + row * (LABEL + SPHERE + PV_GAP);
+        for (k = 0; k < 3; k++) {
+            char text[64];
+            double x = p->right_x + k * (SPHERE + PV_GAP);
+            cli_format(text, sizeof text, "%s, light %g\u00b0", measured ? "measured" : "model",
+                       light_deg[k]);
+            draw_grey(cr, 0.9);
+            draw_text(cr, x + SPHERE / 2.0, y, DRAW_TEXT, 0, 0.5, text);
+            if (one_sphere(cr, in, measured, light_deg[k] * PV_PI / 180.0, x, y + LABEL, o,
+                           err) != 0)
+                return -1;
+        }
     }
     return 0;
 }
 
-static void plot_label(const cli_preview_input *in, const canvas *c, size_t x, size_t y)
+static int draw_page(cairo_t *cr, const cli_preview_input *in, const page *p, char *msg,
+                     size_t msg_size)
 {
-    double lo = 0.0, hi = 0.0;
-    size_t i;
-    char text[128];
-    for (i = 0; i < in->n_history; i++) {
-        if (i == 0 || in->history[i] < lo) lo = in->history[i];
-        if (i == 0 || in->history[i] > hi) hi = in->history[i];
-    }
-    if (in->n_history == 0)
-        cli_format(text, sizeof text, "COST PER ITERATION: NONE");
-    else
-        cli_format(text, sizeof text, "COST PER ITERATION (LOG): %.4E .. %.4E, %zu ITERATIONS", lo,
-                   hi, in->n_history - 1);
-    label(c, x, y, text);
-}
-
-static int plot(const cli_preview_input *in, const canvas *c, const layout *l,
-                brdffit_image_options o, brdffit_error *err)
-{
-    size_t y = l->top + 2 * (LABEL_H + SPHERE + GAP);
-    o.log_y = 1;
-    plot_label(in, c, l->right_x, y);
-    return brdffit_image_plot(at(c, l->right_x, y + LABEL_H), c->stride, 3 * SPHERE + 2 * GAP,
-                              PLOT_H, in->history, in->n_history, &o, err) == BRDFFIT_OK
-               ? 0
-               : -1;
-}
-
-static void fill(const canvas *c, const unsigned char rgb[3])
-{
-    size_t x, y;
-    for (y = 0; y < c->height; y++)
-        for (x = 0; x < c->width; x++) memcpy(at(c, x, y), rgb, 3);
-}
-
-int cli_preview_render(const cli_preview_input *in, cli_picture *out, char *msg, size_t msg_size)
-{
-    brdffit_image_options o = base_options(in), tex = o;
+    brdffit_image_options o = base_options(in);
     brdffit_error err;
-    layout l;
-    canvas c;
-    out->pixels = NULL;
-    if (texture_options(in, &tex, &l, msg, msg_size) != 0) return -1;
-    compute_layout(&l);
-    c.width = l.width;
-    c.height = l.height;
-    c.stride = 3 * l.width;
-    if (l.height > SIZE_MAX / c.stride) {
-        cli_format(msg, msg_size, "picture of %zu x %zu pixels too large", l.width, l.height);
+    double y = HEAD + (p->regular ? 2.0 : 1.0) * (LABEL + SPHERE + PV_GAP);
+    cairo_set_source_rgb(cr, 24 / 255.0, 24 / 255.0, 24 / 255.0);
+    cairo_paint(cr);
+    title(cr, in, p);
+    if (p->regular &&
+        pv_textures_draw(cr, in, &p->tex, PV_GAP, HEAD, &o, msg, msg_size) != 0)
         return -1;
-    }
-    c.px = malloc(c.stride * l.height);
-    if (c.px == NULL) {
-        cli_format(msg, msg_size, "out of memory");
+    if (!p->regular && pv_half_angle_plot(cr, in, PV_GAP, HEAD, SCATTER_W, SCATTER_H, msg,
+                                          msg_size) != 0)
         return -1;
-    }
-    fill(&c, page);
-    label(&c, GAP, GAP, in->title);
-    if (textures(in, &c, &l, &tex, &err) != 0 || spheres(in, &c, &l, &o, &err) != 0 ||
-        plot(in, &c, &l, o, &err) != 0) {
+    if (spheres(cr, in, p, &o, &err) != 0) {
         cli_format(msg, msg_size, "%s", err.message);
-        free(c.px);
         return -1;
     }
-    out->pixels = c.px;
-    out->width = l.width;
-    out->height = l.height;
+    pv_cost_plot(cr, in, p->right_x, y, RIGHT_W, COST_H);
+    if (!p->regular) {
+        draw_grey(cr, 0.7);
+        draw_text(cr, p->right_x, y + COST_H + 4, DRAW_TEXT, 0, 0.0,
+                  "scattered samples: no textures and no measured spheres (both need a");
+        draw_text(cr, p->right_x, y + COST_H + 20, DRAW_TEXT, 0, 0.0,
+                  "regular grid); the plot on the left shows every measured value");
+    }
+    if (p->regular && pv_half_angle_plot(cr, in, p->right_x, y + COST_H + PV_GAP, RIGHT_W,
+                                         HALF_H - PV_GAP, msg, msg_size) != 0)
+        return -1;
     return 0;
+}
+
+int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
+                      size_t msg_size)
+{
+    page p;
+    cairo_surface_t *s;
+    cairo_t *cr;
+    int rc;
+    if (compute_page(in, &p, msg, msg_size) != 0) return -1;
+    s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)p.width, (int)p.height);
+    cr = cairo_create(s);
+    if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
+        cli_format(msg, msg_size, "cairo: %s", cairo_status_to_string(cairo_status(cr)));
+        rc = -1;
+    } else
+        rc = draw_page(cr, in, &p, msg, msg_size);
+    if (rc == 0) {
+        cairo_surface_flush(s);
+        rc = draw_write_png(s, path, msg, msg_size);
+    }
+    cairo_destroy(cr);
+    cairo_surface_destroy(s);
+    return rc;
 }
