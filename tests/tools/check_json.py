@@ -5,6 +5,9 @@
         every line is one JSON object with the required keys first, in
         order, with the documented types; with FILE arguments, there is one
         line per file, in that order.
+    check_json.py settings OUT KEY=JSON...
+        every line has the keys with the given JSON values (numbers equal to
+        1e-12 relative): the settings that shaped the fit are recorded.
     check_json.py near OUT REL NAME=V[:V...]...
         the first line's params match the values within relative tolerance
         REL (NAME=V for a shared parameter, NAME=V1:V2:V3 per channel).
@@ -95,9 +98,26 @@ def near(path, rel, specs):
     print("ok: %s" % " ".join(specs))
 
 
+def settings(path, specs):
+    for i, obj in enumerate(read_lines(path), 1):
+        for spec in specs:
+            key, _, text = spec.partition("=")
+            want = json.loads(text)
+            if key not in obj:
+                fail("line %d: no key %s in %s" % (i, key, json.dumps(obj)))
+            got = obj[key]
+            same = (abs(got - want) <= 1e-12 * abs(want) if is_number(got) and is_number(want)
+                    else got == want)
+            if not same:
+                fail("line %d: %s is %s, expected %s" % (i, key, json.dumps(got), text))
+    print("ok: %s" % " ".join(specs))
+
+
 def main(argv):
     if len(argv) >= 3 and argv[1] == "schema":
         schema(argv[2], argv[3:])
+    elif len(argv) >= 4 and argv[1] == "settings":
+        settings(argv[2], argv[3:])
     elif len(argv) >= 5 and argv[1] == "near":
         near(argv[2], float(argv[3]), argv[4:])
     else:

@@ -120,6 +120,18 @@ static void collect_warnings(const brdffit_fit *fit, fit_result *r)
     }
 }
 
+/* The settings the fit ran with, as the library holds them. */
+static void collect_settings(const brdffit_fit *fit, fit_result *r)
+{
+    double v = 0.0;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_CAP, &r->cap) != BRDFFIT_OK) r->cap = 0.0;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_WEIGHTING, &v) == BRDFFIT_OK) r->weighting = (unsigned)v;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_CLEARCOAT, &r->clearcoat) != BRDFFIT_OK)
+        r->clearcoat = 0.0;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_MAX_ITERATIONS, &v) == BRDFFIT_OK)
+        r->max_iterations = (size_t)v;
+}
+
 static int collect(brdffit_fit *fit, fit_result *r)
 {
     size_t nc = r->n_channels;
@@ -139,6 +151,7 @@ static int collect(brdffit_fit *fit, fit_result *r)
     r->iterations = brdffit_fit_iterations(fit);
     r->stop = brdffit_fit_stop_reason(fit);
     collect_warnings(fit, r);
+    collect_settings(fit, r);
     r->fitted = 1;
     return 0;
 }

@@ -73,7 +73,38 @@ static double param_at(const fit_result *r, const double *v, size_t k, size_t c)
     return v[brdffit_model_vector_index(r->model, k, c, r->n_channels)];
 }
 
+void cli_weighting_names(cli_buf *b, unsigned weighting, const char *sep)
+{
+    int sa = (weighting & BRDFFIT_WEIGHT_SOLID_ANGLE) != 0;
+    int cos = (weighting & BRDFFIT_WEIGHT_COSINE) != 0;
+    if (sa) cli_buf_puts(b, "solid-angle");
+    if (sa && cos) cli_buf_puts(b, sep);
+    if (cos) cli_buf_puts(b, "cosine");
+    if (!sa && !cos) cli_buf_puts(b, "none");
+}
+
+/* Degrees, rounded to 1e-9 deg so that 75 deg reads back as 75. */
+static double degrees(double rad)
+{
+    return floor(rad * 180.0 / 3.14159265358979323846 * 1e9 + 0.5) / 1e9;
+}
+
 /* --- summary ------------------------------------------------------------------ */
+
+/* One line with cap, weighting and clear coat when any is not the default. */
+static void summary_settings(cli_buf *b, const fit_result *r)
+{
+    if (fabs(degrees(r->cap) - 75.0) < 1e-9 && r->weighting == BRDFFIT_WEIGHT_DEFAULT &&
+        r->clearcoat == 0.0)
+        return;
+    cli_buf_printf(b, "  %-12scap %.6g deg, weighting ", "settings", degrees(r->cap));
+    cli_weighting_names(b, r->weighting, " and ");
+    if (r->clearcoat > 0.0)
+        cli_buf_printf(b, ", clear coat R0 %.6g", r->clearcoat);
+    else
+        cli_buf_puts(b, ", no clear coat");
+    cli_buf_puts(b, "\n");
+}
 
 static void summary_param(cli_buf *b, const fit_result *r, size_t k)
 {
@@ -104,6 +135,7 @@ void fit_summary(cli_buf *b, const fit_result *r)
     if (r->objective != BRDFFIT_OBJECTIVE_SQUARES)
         cli_buf_printf(b, ", objective %s", cli_objective_name(r->objective));
     cli_buf_puts(b, "\n");
+    summary_settings(b, r);
     for (k = 0; k < n_decl; k++) summary_param(b, r, k);
     cli_buf_printf(b, "  %-12s", "shader");
     if (r->has_shader) {
@@ -237,7 +269,16 @@ void fit_json(cli_buf *b, const fit_result *r)
     json_warnings(b, r);
     cli_buf_puts(b, ", \"objective\": ");
     cli_buf_json_string(b, cli_objective_name(r->objective));
-    cli_buf_puts(b, "}\n");
+    cli_buf_puts(b, ", \"cap_deg\": ");
+    cli_buf_json_number(b, degrees(r->cap));
+    cli_buf_puts(b, ", \"weighting\": [");
+    if (r->weighting & BRDFFIT_WEIGHT_SOLID_ANGLE) cli_buf_puts(b, "\"solid-angle\"");
+    if ((r->weighting & BRDFFIT_WEIGHT_SOLID_ANGLE) && (r->weighting & BRDFFIT_WEIGHT_COSINE))
+        cli_buf_puts(b, ", ");
+    if (r->weighting & BRDFFIT_WEIGHT_COSINE) cli_buf_puts(b, "\"cosine\"");
+    cli_buf_puts(b, "], \"clearcoat_r0\": ");
+    cli_buf_json_number(b, r->clearcoat);
+    cli_buf_printf(b, ", \"max_iterations\": %zu}\n", r->max_iterations);
 }
 
 /* --- CSV ------------------------------------------------------------------------ */
@@ -274,6 +315,7 @@ void fit_csv_header(cli_buf *b, const fit_result *r)
         for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cs_%zu", c);
     }
     cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms,warnings");
+    cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations");
 }
 
 static void csv_number(cli_buf *b, double x)
@@ -321,5 +363,10 @@ void fit_csv_row(cli_buf *b, const fit_result *r)
     cli_buf_puts(b, ",");
     for (c = 0; c < r->n_warnings; c++)
         cli_buf_printf(b, "%s%s", c ? ";" : "", brdffit_warning_name(r->warnings[c].bit));
-    cli_buf_puts(b, "\n");
+    cli_buf_printf(b, ",%s", cli_objective_name(r->objective));
+    csv_number(b, degrees(r->cap));
+    cli_buf_puts(b, ",");
+    cli_weighting_names(b, r->weighting, ";");
+    csv_number(b, r->clearcoat);
+    cli_buf_printf(b, ",%zu\n", r->max_iterations);
 }

@@ -18,6 +18,11 @@ typedef struct fit_result {
     const brdffit_model *model;
     brdffit_pipeline pipeline;
     brdffit_objective objective;
+    /* the other settings that shaped the fit, read back from it */
+    double cap;              /* radians */
+    unsigned weighting;      /* brdffit_weighting flags */
+    double clearcoat;        /* Schlick R0; 0 = no compensation */
+    size_t max_iterations;   /* of each LM run */
     int fitted;               /* the fit produced parameters */
     brdffit_status status;    /* the failure when not fitted */
     char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
@@ -39,6 +44,10 @@ void fit_result_free(fit_result *r);
  * "cube-root", "relative"), and back; 0 for an unknown name. */
 const char *cli_objective_name(brdffit_objective objective);
 int cli_parse_objective(const char *name, brdffit_objective *out);
+
+/* The weighting flags as JSON and CSV name them: "solid-angle;cosine",
+ * "solid-angle", "cosine" or "none" (`sep` between two names). */
+void cli_weighting_names(cli_buf *b, unsigned weighting, const char *sep);
 
 /* The readable summary, the JSON object (one line, with '\n'), and the
  * CSV header and row (without '\n' for the header, with it for the row). */
