@@ -33,6 +33,14 @@ void draw_text(cairo_t *cr, double x, double y, double size, int bold, double al
     cairo_new_path(cr);
 }
 
+void draw_text_fit(cairo_t *cr, double x, double y, double size, int bold, double max_w,
+                   const char *text)
+{
+    double w = draw_text_width(cr, size, bold, text);
+    /* hinted widths do not shrink exactly in proportion: 5 % to spare */
+    draw_text(cr, x, y, w > max_w ? size * 0.95 * max_w / w : size, bold, 0.0, text);
+}
+
 void draw_rgb(cairo_t *cr, const unsigned char rgb[3])
 {
     cairo_set_source_rgb(cr, rgb[0] / 255.0, rgb[1] / 255.0, rgb[2] / 255.0);

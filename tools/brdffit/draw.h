@@ -19,6 +19,9 @@
 void draw_text(cairo_t *cr, double x, double y, double size, int bold, double align,
                const char *text);
 double draw_text_width(cairo_t *cr, double size, int bold, const char *text);
+/* draw_text() left-aligned, the size reduced so that it fits max_w. */
+void draw_text_fit(cairo_t *cr, double x, double y, double size, int bold, double max_w,
+                   const char *text);
 void draw_rgb(cairo_t *cr, const unsigned char rgb[3]);
 void draw_grey(cairo_t *cr, double v);
 

@@ -72,19 +72,14 @@ static int compute_page(const cli_preview_input *in, page *p, char *msg, size_t 
 static void title(cairo_t *cr, const cli_preview_input *in, const page *p)
 {
     char line[512];
-    double size = DRAW_TITLE, w = draw_text_width(cr, size, 1, in->title);
-    if (w > p->width - 2 * PV_GAP) size *= (p->width - 2 * PV_GAP) / w;
     draw_grey(cr, 0.95);
-    draw_text(cr, PV_GAP, 8, size, 1, 0.0, in->title);
+    draw_text_fit(cr, PV_GAP, 8, DRAW_TITLE, 1, p->width - 2 * PV_GAP, in->title);
     cli_format(line, sizeof line,
                "e = %.4g (root of the summed squared differences)    E = %.4g (Ngan et al. "
                "error)    cost %.4g    cap %g\u00b0    gain %g, gamma %g",
                in->rms, in->ngan, in->cost, in->cap * 180.0 / PV_PI, in->gain, in->gamma);
-    size = DRAW_TEXT;
-    w = draw_text_width(cr, size, 0, line);
-    if (w > p->width - 2 * PV_GAP) size *= (p->width - 2 * PV_GAP) / w;
     draw_grey(cr, 0.8);
-    draw_text(cr, PV_GAP, 30, size, 0, 0.0, line);
+    draw_text_fit(cr, PV_GAP, 30, DRAW_TEXT, 0, p->width - 2 * PV_GAP, line);
 }
 
 static int one_sphere(cairo_t *cr, const cli_preview_input *in, int measured, double theta,

@@ -41,7 +41,7 @@ void pv_cost_plot(cairo_t *cr, const cli_preview_input *in, double x, double y, 
         cli_format(text, sizeof text, "cost per iteration, final Levenberg-Marquardt run: "
                    "%.4g \u2192 %.4g", in->history[0], in->history[n - 1]);
     draw_grey(cr, 0.9);
-    draw_text(cr, x, y, DRAW_TEXT, 0, 0.0, text);
+    draw_text_fit(cr, x, y, DRAW_TEXT, 0, w, text);
     memset(&f, 0, sizeof f);
     f.x = x;
     f.y = y + LABEL;
@@ -159,10 +159,13 @@ static int model_values(const cli_preview_input *in, points *p, char *msg, size_
     return 0;
 }
 
-static void dots(cairo_t *cr, const draw_frame *f, const points *p, const double *v, int which)
+/* Squares of half-size r * scale at the points (which: 0 inside the cap,
+ * 1 beyond it, -1 all). */
+static void dots(cairo_t *cr, const draw_frame *f, const points *p, const double *v, int which,
+                 double scale)
 {
     size_t k;
-    double r = p->n > 5000 ? 1.0 : p->n > 500 ? 1.6 : 2.4;
+    double r = scale * (p->n > 5000 ? 1.0 : p->n > 500 ? 1.6 : 2.4);
     for (k = 0; k < p->n; k++) {
         if (which >= 0 && p->outside[k] != which) continue;
         cairo_rectangle(cr, draw_fx(f, p->th[k]) - r, draw_fy(f, v[k]) - r, 2 * r, 2 * r);
@@ -208,19 +211,25 @@ static void half_angle_draw(cairo_t *cr, const points *p, double cap, draw_frame
     f->ax.hi = 90.0;
     f->ax.title = "\u03b8h (half-angle, degrees)";
     f->ay.title = "BRDF (1/sr, log)";
-    draw_axis_decades(&f->ay, lo, hi);
+    if (hi / lo >= 10.0)
+        draw_axis_decades(&f->ay, lo, hi);
+    else {
+        draw_axis_linear(&f->ay, lo, hi);
+        f->ay.title = "BRDF (1/sr)";
+    }
     draw_frame_axes(cr, f);
-    cairo_set_source_rgba(cr, 0.45, 0.55, 0.85, 0.5);
-    dots(cr, f, p, p->measured, 1);
-    cairo_set_source_rgba(cr, 0.92, 0.92, 0.92, 0.55);
-    dots(cr, f, p, p->measured, 0);
-    cairo_set_source_rgba(cr, orange[0], orange[1], orange[2], 0.7);
-    dots(cr, f, p, p->model, -1);
-    key(cr, f->px + f->pw - 230, f->py + 6, 0.92, 0.92, 0.92, "measured (mean of the channels)");
+    /* measured larger and below, so that a model on top of it leaves a rim */
+    cairo_set_source_rgba(cr, 0.45, 0.55, 0.85, 0.6);
+    dots(cr, f, p, p->measured, 1, 1.5);
+    cairo_set_source_rgba(cr, 0.92, 0.92, 0.92, 0.6);
+    dots(cr, f, p, p->measured, 0, 1.5);
+    cairo_set_source_rgba(cr, orange[0], orange[1], orange[2], 0.8);
+    dots(cr, f, p, p->model, -1, 0.7);
+    key(cr, f->x + 62, f->y - 16, 0.92, 0.92, 0.92, "measured");
     cli_format(t, sizeof t, "measured beyond the %g\u00b0 cap (not fitted)", cap * 180 / PV_PI);
-    key(cr, f->px + f->pw - 230, f->py + 20, 0.45, 0.55, 0.85, t);
-    key(cr, f->px + f->pw - 230, f->py + 34, orange[0], orange[1], orange[2],
-        "model, same directions");
+    key(cr, f->x + 132, f->y - 16, 0.45, 0.55, 0.85, t);
+    key(cr, f->x + 132 + 24 + draw_text_width(cr, DRAW_SMALL, 0, t), f->y - 16, orange[0],
+        orange[1], orange[2], "model");
 }
 
 int pv_half_angle_plot(cairo_t *cr, const cli_preview_input *in, double x, double y, double w,
@@ -234,20 +243,21 @@ int pv_half_angle_plot(cairo_t *cr, const cli_preview_input *in, double x, doubl
     if (rc == 0) {
         size_t every = p.total / MAX_POINTS + 1;
         if (every > 1)
-            cli_format(text, sizeof text, "against the half-angle: 1 in %zu of %zu samples",
+            cli_format(text, sizeof text, "BRDF (channel mean) against \u03b8h: 1 in %zu of %zu samples",
                        every, p.total);
         else
-            cli_format(text, sizeof text, "against the half-angle: all %zu samples", p.total);
+            cli_format(text, sizeof text, "BRDF (channel mean) against \u03b8h: all %zu samples",
+                       p.total);
         if (p.missing > 0)
-            cli_format(text + strlen(text), sizeof text - strlen(text), ", %zu missing left out",
+            cli_format(text + strlen(text), sizeof text - strlen(text), "; %zu incomplete left out",
                        p.missing);
         draw_grey(cr, 0.9);
-        draw_text(cr, x, y, DRAW_TEXT, 0, 0.0, text);
+        draw_text_fit(cr, x, y, DRAW_TEXT, 0, w, text);
         memset(&f, 0, sizeof f);
         f.x = x;
-        f.y = y + LABEL;
+        f.y = y + 2 * LABEL;
         f.w = w;
-        f.h = h - LABEL;
+        f.h = h - 2 * LABEL;
         half_angle_draw(cr, &p, in->cap, &f);
     }
     points_free(&p);

@@ -242,7 +242,9 @@ static void legend(cairo_t *cr, const cli_preview_input *in, const pv_textures *
     draw_text(cr, x, y, DRAW_TEXT, 0, 0.0,
               brdffit_grid_channel_count(in->grid) == 3
                   ? "measured, model: BRDF value per channel (1/sr), red, green, blue"
-                  : "measured, model: BRDF value, mean over the channels (1/sr)");
+                  : brdffit_grid_channel_count(in->grid) == 1
+                        ? "measured, model: BRDF value (1/sr)"
+                        : "measured, model: BRDF value, mean over the channels (1/sr)");
     scale_bar(cr, x, y + 16, o->gain > 0 ? 1.0 / o->gain : 1.0, 0, o);
     draw_grey(cr, 0.9);
     draw_text(cr, x, y + 46, DRAW_TEXT, 0, 0.0,
