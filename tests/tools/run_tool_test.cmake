@@ -549,6 +549,49 @@ elseif(MODE STREQUAL "preview_layout")
   endif()
   expect_no_temporaries()
 
+elseif(MODE STREQUAL "report_html")
+  if(NOT PREVIEW_ARGS)
+    skip("brdffit was built without cairo")
+    return()
+  endif()
+  # A fit with a warning (the iteration limit) and the cap note: one
+  # self-contained page with the settings, parameters, warnings and the
+  # preview as a PNG data URL.
+  run(r fit --report rep.html --pipeline joint --max-iterations 1 ${SAMPLE})
+  expect_rc(r 0)
+  file(READ ${WORK_DIR}/rep.html page)
+  expect_match("${page}" "^<!DOCTYPE html>\n<html lang=\"en\">\n")
+  expect_match("${page}" "</html>\n$")
+  expect_match("${page}" "<img width=\"[0-9]+\" height=\"[0-9]+\" alt=\"[^\"]+\" src=\"data:image/png;base64,iVBORw0KGgo")
+  if(PYTHON)
+    python(${TEST_DIR}/check_html.py ${WORK_DIR}/rep.html ashikhmin-shirley joint
+      "iteration-limit" "the last optimizer run ended at its iteration limit"
+      "the angle cap leaves out 7452 of the 25308 samples" "iteration limit")
+  endif()
+  # Scattered data, and two files with %s; without %s a usage error.
+  execute_process(COMMAND ${MAKE_MEASUREMENTS} ${WORK_DIR}/scan.csv ${WORK_DIR}/paint.binary
+    RESULT_VARIABLE made)
+  if(NOT made EQUAL 0)
+    fail("make_measurements failed")
+  endif()
+  run(s synth --params ns=200 --axes 10,5,18 --out s.csv)
+  run(r fit --report "r-%s.html" --cap 90 scan.csv s.csv)
+  expect_rc(r 0)
+  if(PYTHON)
+    python(${TEST_DIR}/check_html.py ${WORK_DIR}/r-scan.html "ASTM E1392" "90 deg")
+    python(${TEST_DIR}/check_html.py ${WORK_DIR}/r-s.html "ashikhmin-shirley")
+  endif()
+  file(READ ${WORK_DIR}/r-s.html page)
+  expect_match("${page}" "<h2>Warnings</h2>\n<p>none</p>\n")
+  run(r fit --report r.html scan.csv s.csv)
+  expect_rc(r 2)
+  expect_match("${r_err}" "--report with several files needs %s")
+  # An unwritable place: the file fails, nothing is left behind.
+  run(r fit --report no-such-dir/r.html s.csv)
+  expect_rc(r 1)
+  expect_match("${r_err}" "report no-such-dir/r.html: ")
+  expect_no_temporaries()
+
 elseif(MODE STREQUAL "preview_failure")
   if(NOT PREVIEW_ARGS)
     skip("brdffit was built without cairo")

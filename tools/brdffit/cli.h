@@ -162,6 +162,8 @@ typedef struct cli_preview_input {
 /* Draws the preview and writes it as PNG, atomically (cli_write_atomic). */
 int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
                       size_t msg_size);
+/* Draws the preview and appends its PNG bytes to `out`. */
+int cli_preview_png(const cli_preview_input *in, cli_buf *out, char *msg, size_t msg_size);
 /* preview_name.c: the picture name of one input, every %s of the pattern
  * replaced by the input's base name (NULL when out of memory; free() it). */
 char *cli_preview_name(const char *pattern, const char *path);

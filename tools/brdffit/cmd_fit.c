@@ -33,6 +33,8 @@ static const char fit_help[] =
     "  --csv OUT             append one row per fitted file to OUT (header when new)\n"
     "  --preview OUT.png     write a picture of the fit; with several files OUT\n"
     "                        must contain %s, replaced by each file's base name\n"
+    "  --report OUT.html     write one self-contained HTML page per file: settings,\n"
+    "                        parameters, warnings and the preview (%s as above)\n"
     "  --gain G              brightness of the preview textures; default 3\n"
     "  --gamma G             gamma of the preview pictures; default 2.2\n"
     "  --strict              a fit with warnings (parameter at a bound, albedo\n"
@@ -48,7 +50,7 @@ static const char fit_help[] =
     "--strict, has warnings), 2 for usage errors.\n";
 
 typedef struct fit_opts {
-    const char *model_name, *start_text, *csv_path, *preview, *gltf, *mtlx;
+    const char *model_name, *start_text, *csv_path, *preview, *gltf, *mtlx, *report;
     brdffit_pipeline pipeline;
     brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
@@ -156,15 +158,38 @@ static int collect(brdffit_fit *fit, fit_result *r)
     return 0;
 }
 
+/* --report: the page with the preview's PNG bytes. */
+static void write_report(const cli_preview_input *in, const fit_run *run, fit_result *r)
+{
+    char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300];
+    char *name = cli_preview_name(run->opts->report, r->path);
+    cli_buf png;
+    cli_buf_init(&png);
+    if (name == NULL) {
+        fail(r, BRDFFIT_E_OUT_OF_MEMORY, "report: out of memory");
+        return;
+    }
+    if (cli_preview_png(in, &png, msg, sizeof msg) != 0 ||
+        cli_report_write(name, r, &png, msg, sizeof msg) != 0) {
+        cli_format(full, sizeof full, "report %s: %s", name, msg);
+        fail(r, BRDFFIT_E_IO, full);
+    }
+    cli_buf_free(&png);
+    free(name);
+}
+
+/* --preview and --report. */
 static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_run *run,
                           fit_result *r)
 {
     cli_preview_input in;
     char msg[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
-    char *name = cli_preview_name(run->opts->preview, r->path);
+    char *name = run->opts->preview != NULL ? cli_preview_name(run->opts->preview, r->path)
+                                            : NULL;
     double *history = NULL;
     size_t n = brdffit_fit_history(fit, NULL, NULL);
-    if (name == NULL || (n > 0 && (history = malloc(n * sizeof(double))) == NULL)) {
+    if ((name == NULL && run->opts->preview != NULL) ||
+        (n > 0 && (history = malloc(n * sizeof(double))) == NULL)) {
         fail(r, BRDFFIT_E_OUT_OF_MEMORY, "preview: out of memory");
         free(name);
         return;
@@ -186,11 +211,12 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
                base, brdffit_model_name(run->model), cli_pipeline_name(r->pipeline),
                cli_objective_name(r->objective), r->iterations, cli_stop_token(r->stop));
     in.title = title;
-    if (cli_preview_write(&in, name, msg, sizeof msg) != 0) {
+    if (name != NULL && cli_preview_write(&in, name, msg, sizeof msg) != 0) {
         char full[CLI_MSG_SIZE + 300];
         cli_format(full, sizeof full, "preview %s: %s", name, msg);
         fail(r, BRDFFIT_E_IO, full);
     }
+    if (run->opts->report != NULL) write_report(&in, run, r);
     free(history);
     free(name);
 }
@@ -241,7 +267,7 @@ static void fit_one(const fit_run *run, fit_result *r)
         r->fit_ms = cli_now_ms() - t0;
         if (st != BRDFFIT_OK)
             fail(r, st, brdffit_fit_message(fit));
-        else if (collect(fit, r) == 0 && run->opts->preview != NULL)
+        else if (collect(fit, r) == 0 && (run->opts->preview != NULL || run->opts->report != NULL))
             write_preview(fit, grid, run, r);
         if (r->fitted && run->opts->gltf != NULL) write_export(run, r, run->opts->gltf, 0);
         if (r->fitted && run->opts->mtlx != NULL) write_export(run, r, run->opts->mtlx, 1);
@@ -396,6 +422,8 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->csv_path = value;
     else if (strcmp(name, "preview") == 0)
         o->preview = value;
+    else if (strcmp(name, "report") == 0)
+        o->report = value;
     else if (strcmp(name, "gltf") == 0)
         o->gltf = value;
     else if (strcmp(name, "mtlx") == 0)
@@ -454,7 +482,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
-                                         {"objective", 1},
+                                         {"objective", 1}, {"report", 1},
                                          {NULL, 0}};
     cli_args a;
     const char *name, *value;
@@ -473,11 +501,11 @@ static int parse_options(fit_opts *o, int argc, char **argv)
 /* Every output named from a pattern: one name per input, none an input. */
 static int output_names_check(const fit_opts *o, char **files, size_t n_files)
 {
-    const char *const option[3] = {"preview", "gltf", "mtlx"};
-    const char *const pattern[3] = {o->preview, o->gltf, o->mtlx};
+    const char *const option[4] = {"preview", "gltf", "mtlx", "report"};
+    const char *const pattern[4] = {o->preview, o->gltf, o->mtlx, o->report};
     size_t i;
     int rc = 0;
-    for (i = 0; i < 3 && rc == 0; i++)
+    for (i = 0; i < 4 && rc == 0; i++)
         if (pattern[i] != NULL) rc = cli_output_names_check(option[i], pattern[i], files, n_files);
     return rc;
 }
@@ -490,6 +518,11 @@ static int check_options(const fit_opts *o, char **files, int n_files)
                                       "cairo");
     if (o->preview != NULL && n_files > 1 && strstr(o->preview, "%s") == NULL)
         return cli_usage_error("fit", "--preview with several files needs %%s in its name");
+    if (o->report != NULL && !cli_png_available())
+        return cli_usage_error("fit", "--report is not available: brdffit was built without "
+                                      "cairo");
+    if (o->report != NULL && n_files > 1 && strstr(o->report, "%s") == NULL)
+        return cli_usage_error("fit", "--report with several files needs %%s in its name");
     if ((o->gltf != NULL || o->mtlx != NULL) && !cli_gltf_exportable(o->model_name))
         return cli_usage_error("fit",
                                "--%s exports the glTF BRDF itself: fit with --model %s or %s "

@@ -56,6 +56,11 @@ void fit_json(cli_buf *b, const fit_result *r);
 void fit_csv_header(cli_buf *b, const fit_result *r);
 void fit_csv_row(cli_buf *b, const fit_result *r);
 
+/* report.c: the HTML page of a fitted result with the PNG bytes of its
+ * preview (png->len 0: no picture), written atomically. */
+int cli_report_write(const char *path, const fit_result *r, const cli_buf *png, char *msg,
+                     size_t msg_size);
+
 /* The warnings of a fitted result, one "brdffit: FILE: warning: ..." line
  * each, on standard error. */
 void fit_warnings_report(const fit_result *r);

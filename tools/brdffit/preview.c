@@ -156,14 +156,14 @@ static int draw_page(cairo_t *cr, const cli_preview_input *in, const page *p, ch
     return 0;
 }
 
-int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
-                      size_t msg_size)
+/* The drawn page, or NULL with a message. */
+static cairo_surface_t *render(const cli_preview_input *in, char *msg, size_t msg_size)
 {
     page p;
     cairo_surface_t *s;
     cairo_t *cr;
     int rc;
-    if (compute_page(in, &p, msg, msg_size) != 0) return -1;
+    if (compute_page(in, &p, msg, msg_size) != 0) return NULL;
     s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)p.width, (int)p.height);
     cr = cairo_create(s);
     if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
@@ -171,11 +171,29 @@ int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
         rc = -1;
     } else
         rc = draw_page(cr, in, &p, msg, msg_size);
+    cairo_destroy(cr);
     if (rc == 0) {
         cairo_surface_flush(s);
-        rc = draw_write_png(s, path, msg, msg_size);
+        return s;
     }
-    cairo_destroy(cr);
+    cairo_surface_destroy(s);
+    return NULL;
+}
+
+int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
+                      size_t msg_size)
+{
+    cairo_surface_t *s = render(in, msg, msg_size);
+    int rc = s != NULL ? draw_write_png(s, path, msg, msg_size) : -1;
+    cairo_surface_destroy(s);
+    return rc;
+}
+
+int cli_preview_png(const cli_preview_input *in, cli_buf *out, char *msg, size_t msg_size)
+{
+    cairo_surface_t *s = render(in, msg, msg_size);
+    int rc = s != NULL ? draw_png_bytes(s, out) : -1;
+    if (s != NULL && rc != 0) cli_format(msg, msg_size, "out of memory");
     cairo_surface_destroy(s);
     return rc;
 }
