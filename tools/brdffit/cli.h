@@ -162,6 +162,9 @@ typedef struct cli_preview_input {
 /* Draws the preview and writes it as PNG, atomically (cli_write_atomic). */
 int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
                       size_t msg_size);
+/* Frees cairo's font caches once no picture is being drawn any more (so
+ * that leak checkers see a clean exit). */
+void cli_preview_cleanup(void);
 /* Draws the preview and appends its PNG bytes to `out`. */
 int cli_preview_png(const cli_preview_input *in, cli_buf *out, char *msg, size_t msg_size);
 /* preview_name.c: the picture name of one input, every %s of the pattern

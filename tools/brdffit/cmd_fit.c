@@ -601,5 +601,7 @@ int cli_cmd_fit(int argc, char **argv)
     if (n_files == -1) return CLI_OK;
     if (n_files < 0) return CLI_USAGE;
     if ((rc = check_options(&o, argv, n_files)) != 0) return rc;
-    return fit_files(&o, argv, (size_t)n_files);
+    rc = fit_files(&o, argv, (size_t)n_files);
+    if (o.preview != NULL || o.report != NULL) cli_preview_cleanup();
+    return rc;
 }

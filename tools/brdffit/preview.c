@@ -11,6 +11,10 @@
 
 #include "preview.h"
 
+#if defined(BRDFFIT_CLI_FONTCONFIG)
+#include <fontconfig/fontconfig.h>
+#endif
+
 #define SPHERE 150
 #define RIGHT_W (3.0 * SPHERE + 2.0 * PV_GAP)
 #define LABEL 18.0
@@ -31,6 +35,14 @@ typedef struct page {
 int cli_png_available(void)
 {
     return 1;
+}
+
+void cli_preview_cleanup(void)
+{
+    cairo_debug_reset_static_data();
+#if defined(BRDFFIT_CLI_FONTCONFIG)
+    FcFini();
+#endif
 }
 
 static brdffit_image_options base_options(const cli_preview_input *in)

@@ -6,6 +6,10 @@ int cli_png_available(void)
     return 0;
 }
 
+void cli_preview_cleanup(void)
+{
+}
+
 int cli_preview_write(const cli_preview_input *in, const char *path, char *msg,
                       size_t msg_size)
 {
