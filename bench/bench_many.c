@@ -154,15 +154,17 @@ static void record(bh_output *out, const char *name, const bh_stats *st, size_t 
                    size_t threads, double *fps)
 {
     bh_record r;
+    double per_cpu = st->median_cpu_ns > 0.0 ? (double)n / (st->median_cpu_ns * 1e-9) : 0.0;
     *fps = (double)n / (st->median_ns * 1e-9);
-    bh_table(out, "%-28s %7zu %7zu %11.1f %11.0f %13.0f\n", name, threads, n,
-             st->median_ns * 1e-6, *fps, *fps / (double)threads);
+    bh_table(out, "%-30s %7zu %7zu %10.1f %10.0f %13.0f %12.0f\n", name, threads, n,
+             st->median_ns * 1e-6, *fps, *fps / (double)threads, per_cpu);
     bh_rec_begin(&r, out, name);
     bh_rec_int(&r, "threads", threads);
     bh_rec_int(&r, "fits", n);
     bh_rec_stats(&r, st, 0);
     bh_rec_num(&r, "fits_per_second", *fps);
     bh_rec_num(&r, "fits_per_second_per_thread", *fps / (double)threads);
+    bh_rec_num(&r, "fits_per_cpu_second", per_cpu);
     bh_rec_end(&r, out);
 }
 
@@ -253,8 +255,8 @@ int main(int argc, char **argv)
     } else {
         bh_table(&out, "%zu texels of %d scattered samples x %d channels; %zu timed runs each\n",
                  t.n, NS, NC, bh_repeats(&opt, REPEATS));
-        bh_table(&out, "%-28s %7s %7s %11s %11s %13s\n", "how", "threads", "fits", "median ms",
-                 "fits/s", "fits/s/thread");
+        bh_table(&out, "%-30s %7s %7s %10s %10s %13s %12s\n", "how", "threads", "fits",
+                 "median ms", "fits/s", "fits/s/thread", "fits/cpu-s");
         measure(&out, &t, &fg);
         passes_per_fit(&out, &t);
         if (!opt.smoke && opt.filter == NULL) targets(&out, &fg);

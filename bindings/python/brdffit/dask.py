@@ -150,13 +150,14 @@ def _fit_items(items: Sequence, make_grid: Callable, model: ModelSpec,
 def _many_rows(result) -> List[Dict[str, Any]]:
     """The rows of a :class:`~brdffit.ManyResult`, as :func:`_fit_row` makes them."""
     rows = []
+    ok, stops = result.ok.tolist(), result.stop_reasons()
+    rms, cost, iterations = result.rms.tolist(), result.cost.tolist(), result.iterations.tolist()
     for k in range(len(result)):
-        if result.ok[k]:
+        if ok[k]:
             rows.append({"params": result.params[k].copy(),
                          "std_errors": result.std_errors[k].copy(),
-                         "rms": float(result.rms[k]), "cost": float(result.cost[k]),
-                         "iterations": int(result.iterations[k]),
-                         "stop_reason": result.stop_reasons()[k], "error": None})
+                         "rms": rms[k], "cost": cost[k], "iterations": int(iterations[k]),
+                         "stop_reason": stops[k], "error": None})
         else:
             rows.append({"params": None, "std_errors": None, "rms": np.nan, "cost": np.nan,
                          "iterations": -1, "stop_reason": "failed",

@@ -86,11 +86,12 @@ class ManyResult:
     @property
     def ok(self) -> np.ndarray:
         """True where the item was fitted."""
-        return self.status == Status.OK
+        return self.status == int(Status.OK)
 
     def stop_reasons(self) -> List[str]:
         """The stop reason of every item by name (``"none"`` for failures)."""
-        return [STOP_REASONS[s] if 0 <= s < len(STOP_REASONS) else str(s) for s in self.stop]
+        return [STOP_REASONS[s] if 0 <= s < len(STOP_REASONS) else str(s)
+                for s in self.stop.tolist()]
 
     def warning_names(self, item: int) -> List[str]:
         """The short names of item ``item``'s warnings (e.g. ``"at-bound"``)."""
