@@ -7,7 +7,7 @@
 #    and cminpack are the peers of bench_peers);
 # 2. configures a Release build in build-bench/ with -DBRDFFIT_BUILD_BENCH=ON
 #    (static library only; no tests, tools or examples) and builds it;
-# 3. runs bench_core, bench_fit, bench_peers and bench_scale; the tables go
+# 3. runs bench_core, bench_fit, bench_peers, bench_scale and bench_many; the tables go
 #    to stdout and to build-bench/bench.txt, one JSON object per measurement
 #    to build-bench/bench.jsonl (both files are rewritten).
 # Options are handed to every program, e.g. --repeats=3 for a quick look.
@@ -27,7 +27,7 @@ packages=(
     libcminpack-dev
 )
 build=build-bench
-programs=(bench_core bench_fit bench_peers bench_scale)
+programs=(bench_core bench_fit bench_peers bench_scale bench_many)
 jobs=2
 
 if ! install_packages bench.sh "${packages[@]}"; then

@@ -29,7 +29,7 @@ LAYERS = {"core": 0, "grid": 1, "optim": 1, "models": 2, "load": 2, "fit": 3, "i
 PUBLIC = {
     "alloc.h": "core", "export.h": "core", "status.h": "core", "version.h": "core",
     "batch.h": "grid", "grid.h": "grid", "optim.h": "optim", "model.h": "models",
-    "load.h": "load", "fit.h": "fit", "image.h": "image",
+    "load.h": "load", "fit.h": "fit", "many.h": "fit", "image.h": "image",
 }
 
 # Headers only their own directory may include; the others of a directory

@@ -15,6 +15,7 @@
 #include "brdffit/grid.h"
 #include "brdffit/image.h"
 #include "brdffit/load.h"
+#include "brdffit/many.h"
 #include "brdffit/model.h"
 #include "brdffit/optim.h"
 #include "brdffit/status.h"

@@ -164,6 +164,10 @@ static brdffit_status copy_shape(brdffit_grid *g, const brdffit_grid *src, brdff
     }
     g->max_theta = copy_block(&g->alloc, src->max_theta, n * sizeof(double));
     if (g->max_theta == NULL) return bf_grid_oom(err);
+    if (src->order != NULL) {
+        g->order = copy_block(&g->alloc, src->order, n * sizeof(size_t));
+        if (g->order == NULL) return bf_grid_oom(err);
+    }
     if (src->sample_weight == NULL) return BRDFFIT_OK;
     g->sample_weight = copy_block(&g->alloc, src->sample_weight, n * sizeof(double));
     return g->sample_weight == NULL ? bf_grid_oom(err) : BRDFFIT_OK;

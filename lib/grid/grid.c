@@ -57,6 +57,7 @@ void bf_grid_free(brdffit_grid *g)
     bf_free(&a, g->missing);
     bf_free(&a, g->sample_weight);
     bf_free(&a, g->max_theta);
+    bf_free(&a, g->order);
     g->magic = BF_MAGIC_DEAD;
     bf_free(&a, g);
 }

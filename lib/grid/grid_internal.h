@@ -43,6 +43,8 @@ struct brdffit_grid {
     unsigned char *missing;  /* NULL when nothing is missing, else [c * n_samples + s] */
     double *sample_weight;   /* scattered: NULL (uniform) or one per sample */
     double *max_theta;       /* scattered: max(theta_i, theta_o), ascending */
+    size_t *order;           /* scattered: NULL when the input was in stored order, else
+                              * the input row of every stored sample */
 };
 
 /* Validate a grid handle (non-NULL, magic). */
@@ -100,6 +102,24 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
  * written to `weights` (room for BF_CHUNK doubles). */
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights);
+
+/* ---- views (view.c) --------------------------------------------------------- */
+
+/* A view: a grid struct sharing the geometry, axes, sample weights and
+ * order of `geometry` (borrowed, read only) with values of its own in the
+ * caller's buffer `values` (n_samples * n_channels doubles), set by
+ * bf_grid_view_set(). A view reads like a grid made from the same
+ * directions and values, bit for bit; it owns nothing, is never destroyed
+ * and must not outlive `geometry`. */
+void bf_grid_view_init(brdffit_grid *view, const brdffit_grid *geometry, double *values);
+/* Set the view's values from interleaved input in the sample order the
+ * geometry grid was created with (as brdffit_grid_create_*() take them);
+ * missing may be NULL; mask is the caller's buffer of n_samples *
+ * n_channels bytes, used only when a value is missing. BRDFFIT_E_RANGE for
+ * a present value that is not finite (the view then holds no values). */
+brdffit_status bf_grid_view_set(brdffit_grid *view, const double *values,
+                                const unsigned char *missing, unsigned char *mask,
+                                brdffit_error *err);
 
 /* ---- what other layers read of a grid (derived.c) ------------------------- */
 

@@ -126,7 +126,10 @@ static brdffit_status fill_scattered(brdffit_grid *g, const scattered_input *in,
             if (g->sample_weight != NULL) g->sample_weight[s] = in->weights[k];
         }
     }
-    bf_free(&g->alloc, order);
+    /* kept for views (view.c) unless it is the identity */
+    for (s = 0; st == BRDFFIT_OK && s < n && order[s] == s; s++) continue;
+    if (st == BRDFFIT_OK && s < n) g->order = order;
+    else bf_free(&g->alloc, order);
     return st;
 }
 

@@ -185,6 +185,7 @@ int cli_cmd_fit(int argc, char **argv);
 int cli_cmd_info(int argc, char **argv);
 int cli_cmd_models(int argc, char **argv);
 int cli_cmd_synth(int argc, char **argv);
+int cli_cmd_map(int argc, char **argv);
 
 /* Short token of a stop reason for JSON and CSV ("gradient", ...). */
 const char *cli_stop_token(brdffit_stop_reason reason);

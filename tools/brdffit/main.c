@@ -14,6 +14,7 @@ static void usage(FILE *out)
           "\n"
           "commands:\n"
           "  fit FILE...      fit a model to measurements (CSV or MERL .binary)\n"
+          "  map FILE         fit every texel of a texel map, write a parameter map\n"
           "  models           list the built-in models and their parameters\n"
           "  info FILE        summarise a measurement\n"
           "  synth            write a synthetic measurement from a model as CSV\n"
@@ -46,6 +47,7 @@ static int dispatch(int argc, char **argv)
     }
     if (strcmp(cmd, "--version") == 0) return version();
     if (strcmp(cmd, "fit") == 0) return cli_cmd_fit(argc - 2, argv + 2);
+    if (strcmp(cmd, "map") == 0) return cli_cmd_map(argc - 2, argv + 2);
     if (strcmp(cmd, "models") == 0) return cli_cmd_models(argc - 2, argv + 2);
     if (strcmp(cmd, "info") == 0) return cli_cmd_info(argc - 2, argv + 2);
     if (strcmp(cmd, "synth") == 0) return cli_cmd_synth(argc - 2, argv + 2);

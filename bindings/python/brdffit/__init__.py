@@ -9,6 +9,7 @@ Main classes:
 - :class:`Grid`: a measurement (regular or scattered), from arrays or files;
 - :class:`Model`: a built-in model or one written in Python;
 - :class:`Fit`: fits a model to a grid and reports the result;
+- :func:`fit_many`: many value sets on one geometry in one call (texel maps);
 - :class:`Optimizer`: the general Levenberg-Marquardt optimizer;
 - :class:`DampingPolicy`, :class:`PythonDamping`: damping policies;
 - :mod:`brdffit.image`: textures, spheres and plots as numpy arrays;
@@ -33,16 +34,17 @@ from .damping import DAMPING_POLICIES, DampingPolicy, PythonDamping
 from .errors import BrdffitError, Status, status_name, status_string
 from .fit import Fit, IterationInfo, METRICS, PIPELINES, STOP_REASONS
 from .grid import Grid, Weighting, default_axes
+from .many import ManyResult, fit_many
 from .model import JacobianReport, Model, ParamFlags, ParamInfo, ParamLayout
 from .optim import Optimizer
 
 __version__ = "0.1.0"
 
 __all__ = ["BrdffitError", "DAMPING_POLICIES", "DEFAULT_CAP", "DampingPolicy", "Fit", "Grid",
-           "IterationInfo", "JacobianReport", "METRICS", "Model", "Optimizer", "PIPELINES",
-           "ParamFlags", "ParamInfo", "ParamLayout", "PythonDamping", "STOP_REASONS", "Status",
-           "Weighting", "default_axes", "deg2rad", "image", "library_path", "library_version",
-           "rad2deg", "status_name", "status_string"]
+           "IterationInfo", "JacobianReport", "METRICS", "ManyResult", "Model", "Optimizer",
+           "PIPELINES", "ParamFlags", "ParamInfo", "ParamLayout", "PythonDamping",
+           "STOP_REASONS", "Status", "Weighting", "default_axes", "deg2rad", "fit_many", "image",
+           "library_path", "library_version", "rad2deg", "status_name", "status_string"]
 
 
 def library_version():

@@ -3,10 +3,12 @@
 Needs Debian's ``python3-dask`` and ``python3-distributed`` (imported when a
 function here is called, so ``import brdffit`` never needs them).
 
-The work is split into tasks of ``per_task`` fits each (one fit per item
-inside a task), so scheduling costs are paid per task, not per fit. The
-geometry of a texel map is scattered to every worker once and shared by all
-of its tasks. Every task is a pure function of its inputs: when a worker
+The work is split into tasks of ``per_task`` fits each, so scheduling costs
+are paid per task, not per fit. The geometry of a texel map is scattered to
+every worker once and shared by all of its tasks; each task fits its texels
+in one :func:`brdffit.fit_many` call (``brdffit_fit_many()``: one geometry
+grid per worker thread, no grid or fit per texel; files, and models written
+in Python, are fitted one :class:`~brdffit.Fit` per item). Every task is a pure function of its inputs: when a worker
 dies, the scheduler runs its unfinished (or finished but not yet gathered)
 tasks again elsewhere, and every item is in the result exactly once, at its
 place. A failing item (an unreadable file, a fit that fails) is reported in
@@ -25,12 +27,14 @@ Example::
 """
 
 import os
+import threading
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
 from .fit import Fit
 from .grid import Grid
+from .many import fit_many
 from .model import Model
 
 __all__ = ["Geometry", "FitTable", "BatchJob", "fit_files", "fit_texels", "submit_files",
@@ -55,6 +59,21 @@ class Geometry:
             raise ValueError("%s geometry needs %d arrays"
                              % (self.kind, 3 if self.kind == "regular" else 4))
         self.weights = None if weights is None else np.ascontiguousarray(weights, np.float64)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("_local", None)  # per-process grids are not sent
+        return state
+
+    def shared_grid(self, n_channels: int) -> Grid:
+        """A grid of this geometry with ``n_channels`` channels of zeros,
+        made once per thread of a process and kept: the geometry of the
+        batch fits of :func:`texels_task`."""
+        local = self.__dict__.setdefault("_local", threading.local())
+        grids = local.__dict__.setdefault("grids", {})
+        if n_channels not in grids:
+            grids[n_channels] = self.grid(np.zeros((self.sample_count, n_channels)))
+        return grids[n_channels]
 
     @property
     def sample_count(self) -> int:
@@ -128,6 +147,50 @@ def _fit_items(items: Sequence, make_grid: Callable, model: ModelSpec,
     return rows
 
 
+def _many_rows(result) -> List[Dict[str, Any]]:
+    """The rows of a :class:`~brdffit.ManyResult`, as :func:`_fit_row` makes them."""
+    rows = []
+    ok, stops = result.ok.tolist(), result.stop_reasons()
+    rms, cost, iterations = result.rms.tolist(), result.cost.tolist(), result.iterations.tolist()
+    for k in range(len(result)):
+        if ok[k]:
+            rows.append({"params": result.params[k].copy(),
+                         "std_errors": result.std_errors[k].copy(),
+                         "rms": rms[k], "cost": cost[k], "iterations": int(iterations[k]),
+                         "stop_reason": stops[k], "error": None})
+        else:
+            rows.append({"params": None, "std_errors": None, "rms": np.nan, "cost": np.nan,
+                         "iterations": -1, "stop_reason": "failed",
+                         "error": "BrdffitError: %s" % result.error(k)})
+    return rows
+
+
+def _fit_texels(values: np.ndarray, geometry: "Geometry", model: ModelSpec,
+                options: Dict[str, Any]) -> List[Dict[str, Any]]:
+    """Fit texels ``values`` (n, n_samples, n_channels) in one batch call
+    (a Python model: one fit per texel)."""
+    m = _model(model)
+    try:
+        if m._python_eval is not None:
+            return [_fit_one(geometry.grid, v, m, options) for v in values]
+        opts = dict(options)
+        damping = opts.pop("damping", None)
+        with Fit(geometry.shared_grid(values.shape[2]), m, **opts) as fit:
+            if damping is not None:
+                fit.set_damping(damping)
+            return _many_rows(fit_many(fit, values))
+    finally:
+        m.close()
+
+
+def _fit_one(make_grid: Callable, item, m: Model, options: Dict[str, Any]) -> Dict[str, Any]:
+    try:
+        with make_grid(item) as grid:
+            return _fit_row(grid, m, options)
+    except Exception as exc:  # reported in the row, not fatal
+        return _failed_row(exc)
+
+
 def files_task(paths: Sequence[str], model: ModelSpec, options: Dict[str, Any]):
     """One task: fit the files ``paths`` (read where the task runs)."""
     return _fit_items(paths, _load, model, options)
@@ -136,7 +199,7 @@ def files_task(paths: Sequence[str], model: ModelSpec, options: Dict[str, Any]):
 def texels_task(values: np.ndarray, geometry: Geometry, model: ModelSpec,
                 options: Dict[str, Any]):
     """One task: fit the texels ``values[k]`` over the shared ``geometry``."""
-    return _fit_items(list(values), geometry.grid, model, options)
+    return _fit_texels(_texel_values(geometry, values), geometry, model, options)
 
 
 def texel_file_task(path: str, start: int, stop: int, geometry: Geometry, model: ModelSpec,
@@ -144,8 +207,7 @@ def texel_file_task(path: str, start: int, stop: int, geometry: Geometry, model:
     """One task: fit texels ``start .. stop - 1`` of the ``.npy`` map at
     ``path``, read (memory-mapped) where the task runs."""
     values = np.load(path, mmap_mode="r")
-    tile = _texel_values(geometry, values[start:stop])
-    return _fit_items(list(tile), geometry.grid, model, options)
+    return _fit_texels(_texel_values(geometry, values[start:stop]), geometry, model, options)
 
 
 class FitTable:
