@@ -187,6 +187,10 @@ BRDFFIT_API brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double 
  * @brief Hold a parameter fixed at its start value (@p fixed non-zero) or
  *        let the fit change it (@p fixed zero). By default, parameters the
  *        model flags ::BRDFFIT_PARAM_FIXED are held and the others are free.
+ *
+ * Every pipeline honours it for every kind of parameter (shape, colour,
+ * Fresnel term): a held parameter comes back as exactly its start value in
+ * every channel, with standard error 0 (docs/fitting.md).
  * @param fit   The fit.
  * @param param Parameter index in declaration order.
  * @param fixed Non-zero to hold the parameter, zero to free it.
