@@ -295,5 +295,6 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
     collect(st, st->x, params, se);
-    return BRDFFIT_OK;
+    return bf_trace_lm(&st->run->result->trace, &fit->alloc, st->kind, st->label, st->opt,
+                       &st->traced);
 }
