@@ -254,6 +254,62 @@ static void test_callback_stop_not_converged(void **state)
     teardown(&f);
 }
 
+/* Stops the LM run that makes call number `at` of the callback. */
+typedef struct stop_at {
+    int calls, at;
+} stop_at;
+
+static int stop_at_call(const brdffit_iteration *it, void *user)
+{
+    stop_at *s = user;
+    (void)it;
+    return ++s->calls == s->at;
+}
+
+/* Two-stage whose first channel stage alone is stopped by the callback:
+ * the final run (the last channel's) converged, so the fit's stop reason
+ * says so, but the answer holds channel 0's unconverged colours: not
+ * converged. */
+static void test_two_stage_judges_every_kept_stage(void **state)
+{
+    fixture f;
+    stop_at s = {0, 0};
+    brdffit_fit_stage st;
+    (void)state;
+    setup(&f, "ashikhmin-shirley", AS);
+    run_pipeline(&f, BRDFFIT_PIPELINE_TWO_STAGE);
+    s.at = (int)stage_of(f.fit, 0).iterations + 1; /* channel 0's first iteration */
+    assert_int_equal(brdffit_fit_set_callback(f.fit, stop_at_call, &s), BRDFFIT_OK);
+    run_pipeline(&f, BRDFFIT_PIPELINE_TWO_STAGE);
+    st = stage_of(f.fit, 1);
+    assert_int_equal(st.kind, BRDFFIT_STAGE_CHANNEL);
+    assert_int_equal(st.stop, BRDFFIT_STOP_CALLBACK);
+    assert_int_equal(st.kept, 1);
+    assert_int_equal(stage_of(f.fit, 0).converged, 1);
+    assert_int_equal(stage_of(f.fit, NC).converged, 1);
+    assert_true(brdffit_fit_stop_reason(f.fit) != BRDFFIT_STOP_CALLBACK);
+    assert_int_equal(brdffit_fit_converged(f.fit), 0);
+    teardown(&f);
+}
+
+/* A cancel before the run: auto returns its start point unpolished, with
+ * no stage run, cancelled and not converged. */
+static void test_cancelled_auto_not_converged(void **state)
+{
+    fixture f;
+    (void)state;
+    setup(&f, "ashikhmin-shirley", AS);
+    brdffit_fit_cancel(f.fit);
+    run_pipeline(&f, BRDFFIT_PIPELINE_AUTO);
+    assert_int_equal(brdffit_fit_stop_reason(f.fit), BRDFFIT_STOP_CANCELLED);
+    assert_int_equal(brdffit_fit_converged(f.fit), 0);
+    assert_int_equal(brdffit_fit_stage_count(f.fit), 0);
+    /* the request was consumed: the next run converges */
+    run_pipeline(&f, BRDFFIT_PIPELINE_AUTO);
+    assert_int_equal(brdffit_fit_converged(f.fit), 1);
+    teardown(&f);
+}
+
 /* value = c x, whatever k: the data cannot tell k and the run stalls. */
 static brdffit_status idle_eval(const brdffit_batch *b, const double *p, size_t nc, double *values,
                                 double *jac, void *user)
@@ -349,6 +405,8 @@ int main(void)
         cmocka_unit_test(test_iteration_limit_not_converged),
         cmocka_unit_test(test_callback_stop_not_converged),
         cmocka_unit_test(test_stall_not_converged),
+        cmocka_unit_test(test_two_stage_judges_every_kept_stage),
+        cmocka_unit_test(test_cancelled_auto_not_converged),
         cmocka_unit_test(test_report_before_and_misuse),
         cmocka_unit_test(test_stage_names),
     };
