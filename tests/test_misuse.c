@@ -1230,6 +1230,13 @@ static void test_fit_destroyed_handles(void **state)
     assert_int_equal(brdffit_fit_iterations(fit), 0);
     assert_int_equal(brdffit_fit_history(fit, NULL, NULL), 0);
     assert_int_equal(brdffit_fit_passes(fit), 0);
+    {
+        brdffit_fit_stage stage;
+        EXPECT(BRDFFIT_E_BAD_HANDLE, brdffit_fit_stage_info(fit, 0, &stage, sizeof stage));
+        assert_int_equal(brdffit_fit_converged(fit), 0);
+        assert_int_equal(brdffit_fit_stage_count(fit), 0);
+        assert_int_equal(brdffit_fit_history_all(fit, NULL, NULL, NULL), 0);
+    }
     /* the grid goes first, then the model: the fit that borrowed them refuses to run */
     brdffit_grid_destroy(g);
     EXPECT_FIT(BRDFFIT_E_BAD_HANDLE, orphan, brdffit_fit_run(orphan));

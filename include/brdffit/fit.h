@@ -187,6 +187,10 @@ BRDFFIT_API brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double 
  * @brief Hold a parameter fixed at its start value (@p fixed non-zero) or
  *        let the fit change it (@p fixed zero). By default, parameters the
  *        model flags ::BRDFFIT_PARAM_FIXED are held and the others are free.
+ *
+ * Every pipeline honours it for every kind of parameter (shape, colour,
+ * Fresnel term): a held parameter comes back as exactly its start value in
+ * every channel, with standard error 0 (docs/fitting.md).
  * @param fit   The fit.
  * @param param Parameter index in declaration order.
  * @param fixed Non-zero to hold the parameter, zero to free it.
@@ -277,21 +281,137 @@ BRDFFIT_API brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit
 BRDFFIT_API brdffit_status brdffit_fit_shader(const brdffit_fit *fit, double *rs, double *cd,
                                               double *cs);
 
-/** @brief Why the final LM run ended; ::BRDFFIT_STOP_NONE before a run. */
+/**
+ * @brief Why the final LM run ended; ::BRDFFIT_STOP_NONE before a run.
+ *
+ * The final run is, for auto, the polish whose result is returned (the
+ * best of them); for joint, its run; for two-stage, the last channel's
+ * second stage (the mean stage when a cancel came before any channel).
+ * ::BRDFFIT_STOP_CANCELLED whenever the fit was cancelled. Every stage's
+ * own reason: brdffit_fit_stage_info(); whether the whole answer
+ * converged: brdffit_fit_converged().
+ */
 BRDFFIT_API brdffit_stop_reason brdffit_fit_stop_reason(const brdffit_fit *fit);
 
-/** @brief Iterations of the final LM run. */
+/** @brief Iterations of the final LM run (as brdffit_fit_stop_reason()). */
 BRDFFIT_API size_t brdffit_fit_iterations(const brdffit_fit *fit);
 
 /**
- * @brief Cost and lambda per iteration of the final LM run, as
- *        brdffit_optimizer_history().
+ * @brief Cost and lambda per iteration of the final LM run (as
+ *        brdffit_fit_stop_reason()), as brdffit_optimizer_history(); the
+ *        whole run's: brdffit_fit_history_all().
  * @return The number of values written to each non-NULL array.
  */
 BRDFFIT_API size_t brdffit_fit_history(const brdffit_fit *fit, double *cost, double *lambda);
 
 /** @brief Passes over the samples the last run made (scan and LM together). */
 BRDFFIT_API size_t brdffit_fit_passes(const brdffit_fit *fit);
+
+/**
+ * @brief Whether the last run's answer converged: 1 when the last run
+ *        succeeded, was neither cancelled nor stopped by its callback, and
+ *        every Levenberg-Marquardt run whose result is part of the returned
+ *        parameters converged in the sense of brdffit_optimizer_converged()
+ *        (it ended with ::BRDFFIT_STOP_GRADIENT, ::BRDFFIT_STOP_STEP,
+ *        ::BRDFFIT_STOP_COST or ::BRDFFIT_STOP_ZERO_COST).
+ *
+ * The runs judged are those the stages mark @c kept
+ * (brdffit_fit_stage_info()): auto, the polish whose result is returned;
+ * joint, its run; two-stage, the channel-mean stage and every channel's
+ * second stage. 0 when any of them stalled (::BRDFFIT_STOP_STALLED), hit
+ * its iteration or evaluation limit or was stopped by the callback, when
+ * the fit was cancelled (also during auto's scan, before any polish),
+ * before a run, after a failed one, and for NULL or a destroyed handle.
+ * Only the
+ * returned point's standing as a stationary point is judged, not whether
+ * it is the global minimum. Thread-safe for concurrent readers of a fit
+ * that is not running.
+ */
+BRDFFIT_API int brdffit_fit_converged(const brdffit_fit *fit);
+
+/** @brief The stages of a fit run (brdffit_fit_stage_info()). Values are fixed forever. */
+typedef enum brdffit_fit_stage_kind {
+    BRDFFIT_STAGE_SCAN = 0,   /**< Auto: the global scan of the profile cost, with its refinement. */
+    BRDFFIT_STAGE_POLISH = 1, /**< Auto: the LM polish of one scan candidate. */
+    BRDFFIT_STAGE_JOINT = 2,  /**< Joint: the LM run over every parameter. */
+    BRDFFIT_STAGE_MEAN = 3,   /**< Two-stage: the LM run on the channel mean (stage 1). */
+    BRDFFIT_STAGE_CHANNEL = 4 /**< Two-stage: one channel's LM run with the shape held (stage 2). */
+} brdffit_fit_stage_kind;
+
+/**
+ * @brief One stage of the last run, as brdffit_fit_stage_info() reports it.
+ *        Fields are only ever appended.
+ */
+typedef struct brdffit_fit_stage {
+    brdffit_fit_stage_kind kind; /**< What the stage is. */
+    size_t index;       /**< Polish: the candidate's rank in the scan (0 the best); channel: the channel; else 0. */
+    size_t first;       /**< Its first entry in brdffit_fit_history_all(). */
+    size_t length;      /**< Its number of entries there. */
+    brdffit_stop_reason stop; /**< Why an LM stage ended; ::BRDFFIT_STOP_NONE for the scan. */
+    size_t iterations;  /**< LM iterations (accepted and rejected steps); 0 for the scan. */
+    size_t evaluations; /**< Evaluations of the LM problem, or the scan's profile evaluations. */
+    int converged;      /**< brdffit_optimizer_converged() of an LM stage; 0 for the scan. */
+    int kept;           /**< Non-zero when the stage's result is part of the returned parameters (never the scan). */
+} brdffit_fit_stage;
+
+/** @brief The smallest size brdffit_fit_stage_info() accepts: the first
+ *         version of ::brdffit_fit_stage. */
+#define BRDFFIT_FIT_STAGE_SIZE_V1 (offsetof(brdffit_fit_stage, kept) + sizeof(int))
+
+/**
+ * @brief Number of stages of the last successful run, in the order they ran
+ *        (auto: the scan, then one polish per competing candidate; joint:
+ *        one; two-stage: the mean stage, then one per channel); 0 before
+ *        one. Thread-safe as brdffit_fit_converged().
+ */
+BRDFFIT_API size_t brdffit_fit_stage_count(const brdffit_fit *fit);
+
+/**
+ * @brief The label and report of stage @p stage of the last successful run.
+ * @param fit   The fit.
+ * @param stage 0 .. brdffit_fit_stage_count() - 1.
+ * @param[out] info Receives the first @p size bytes of the stage's
+ *                  ::brdffit_fit_stage (pass sizeof(brdffit_fit_stage); a
+ *                  caller built against an older header passes its smaller
+ *                  size and gets the fields it knows).
+ * @param size  Bytes of @p info, at least ::BRDFFIT_FIT_STAGE_SIZE_V1;
+ *              bytes beyond the library's struct are left as they are.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
+ *         ::BRDFFIT_E_INVALID_ARGUMENT for NULL, a stage out of range or a
+ *         size too small; ::BRDFFIT_E_BAD_HANDLE. Thread-safe as
+ *         brdffit_fit_converged().
+ */
+BRDFFIT_API brdffit_status brdffit_fit_stage_info(const brdffit_fit *fit, size_t stage,
+                                                  brdffit_fit_stage *info, size_t size);
+
+/**
+ * @brief The short name of a stage kind ("scan", "polish", "joint", "mean",
+ *        "channel"), as the command's JSON output uses them; NULL for an
+ *        unknown kind. The strings are static. Thread-safe.
+ */
+BRDFFIT_API const char *brdffit_fit_stage_name(brdffit_fit_stage_kind kind);
+
+/**
+ * @brief The whole history of the last successful run, every stage in turn,
+ *        each entry labelled with its stage.
+ *
+ * An LM stage contributes its brdffit_optimizer_history(): the start cost
+ * and lambda, then the cost and lambda after each iteration. The scan
+ * contributes one entry per profile evaluation: the lowest profile cost of
+ * the scan so far, lambda 0. Costs are in the fit's objective; a
+ * two-stage mean stage's cost is that of the channel mean, a channel
+ * stage's that of its channel alone. brdffit_fit_history() is the part of
+ * the stage it reports (brdffit_fit_stop_reason()).
+ * @param fit  The fit.
+ * @param[out] cost   NULL, or the returned number of values.
+ * @param[out] lambda NULL, or as many.
+ * @param[out] stage  NULL, or as many: each entry's stage number
+ *                    (brdffit_fit_stage_info()).
+ * @return The number of entries (call with three NULLs to size the arrays);
+ *         0 before a successful run. Thread-safe as brdffit_fit_converged().
+ */
+BRDFFIT_API size_t brdffit_fit_history_all(const brdffit_fit *fit, double *cost, double *lambda,
+                                           size_t *stage);
 
 /**
  * @brief Warnings about a fitted result: signs that the parameters, although

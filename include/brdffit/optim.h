@@ -15,8 +15,11 @@
  * definite or is badly conditioned, by a symmetric eigen-decomposition
  * (pseudo-inverse), and the run records that it fell back.
  *
- * Trial points are evaluated for the cost alone (jac, jtj and jtr NULL);
- * the derivatives are evaluated once per accepted step, at the new point.
+ * In the residual form, trial points are evaluated for the residuals alone
+ * (jac NULL) and the Jacobian once per accepted step, at the new point. In
+ * the normal-equation form every evaluation asks for J^T J and J^T r with
+ * the cost (one pass over the rows gives all three), so an accepted step
+ * costs one evaluation and a rejected one discards them.
  * A trial point the problem cannot evaluate (a failing callback, NaN or
  * Inf anywhere) is a rejected step, never a result.
  *
@@ -68,7 +71,9 @@ typedef brdffit_status (*brdffit_residual_fn)(const double *x, double *r, double
  * @brief Normal-equation form of a problem.
  * @param x        The p parameters.
  * @param[out] cost sum of squared residuals at x (set to 0 before the call).
- * @param[out] jtj NULL when only the cost is wanted; otherwise J^T J, p x p,
+ * @param[out] jtj NULL when only the cost is wanted (the optimizer always
+ *                 wants J^T J and J^T r with the cost; other callers of
+ *                 the callback may not); otherwise J^T J, p x p,
  *                 row-major (both triangles; the optimizer averages the
  *                 two), set to 0 before the call so the callback may
  *                 accumulate into it.

@@ -10,22 +10,36 @@
 #include "fit/scan.h"
 #include "fit/varpro.h"
 
-/* Polish one candidate with LM over every free parameter; the best polish
- * so far is in the run's result (cost *best_cost). `work` has 3 n doubles. */
-static brdffit_status polish(bf_stage *st, const bf_scan *sc, const bf_candidate *c,
-                             double *best_cost, double *work)
+/* The best polish so far: its cost and its stage in the trace. */
+typedef struct best_polish {
+    double cost;
+    size_t stage;
+} best_polish;
+
+/* Polish candidate i with LM over every free parameter; the best polish
+ * so far is in the run's result, with its report, and the only polish the
+ * trace keeps. `work` has 3 n doubles. */
+static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_polish *best,
+                             double *work)
 {
     bf_result *r = st->run->result;
     double cost, *start = work, *params = work + st->n, *se = work + 2 * st->n;
-    BF_RETURN_IF_ERROR(bf_scan_profile_at(st, sc, c->u, &cost));
+    bf_scan_set_point(st, sc, sc->best[i].u);
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
     memcpy(start, st->p, st->n * sizeof *start);
+    st->kind = BRDFFIT_STAGE_POLISH;
+    st->label = i;
     BF_RETURN_IF_ERROR(bf_stage_lm(st, start, params, se));
-    if (st->cost < *best_cost) {
-        *best_cost = st->cost;
-        memcpy(r->params, params, st->n * sizeof *params);
-        memcpy(r->std_errors, se, st->n * sizeof *se);
+    if (!(st->cost < best->cost)) {
+        bf_trace_keep(&r->trace, st->traced, 0);
+        return BRDFFIT_OK;
     }
-    return BRDFFIT_OK;
+    if (best->cost < HUGE_VAL) bf_trace_keep(&r->trace, best->stage, 0);
+    best->cost = st->cost;
+    best->stage = st->traced;
+    memcpy(r->params, params, st->n * sizeof *params);
+    memcpy(r->std_errors, se, st->n * sizeof *se);
+    return bf_result_keep_report(r, st->opt, &st->run->fit->alloc);
 }
 
 /* A cancel during the scan: the best point seen so far, unpolished. */
@@ -50,7 +64,8 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
 {
     const brdffit_allocator *a = &st->run->fit->alloc;
     size_t n_polish = 1, i;
-    double best_cost = HUGE_VAL, *work;
+    best_polish best = {HUGE_VAL, 0};
+    double *work;
     brdffit_status status = BRDFFIT_OK;
     while (n_polish < sc->n_best && sc->best[n_polish].cost <= 2.0 * sc->best[0].cost) n_polish++;
     if (sc->nd == 1 && n_polish > 1) BF_RETURN_IF_ERROR(bf_scan_refine(st, sc, n_polish));
@@ -58,8 +73,8 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     work = bf_calloc(a, 3 * st->n, sizeof *work);
     if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (i = 0; i < n_polish && status == BRDFFIT_OK && !st->run->cancelled; i++)
-        status = polish(st, sc, &sc->best[i], &best_cost, work);
-    if (status == BRDFFIT_OK && !(best_cost < HUGE_VAL))
+        status = polish(st, sc, i, &best, work);
+    if (status == BRDFFIT_OK && !(best.cost < HUGE_VAL))
         status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
     bf_free(a, work);
     return status;
@@ -94,8 +109,9 @@ brdffit_status bf_pipeline_auto(bf_run *run)
     if (status != BRDFFIT_OK) return status;
     status = bf_scan_run(&st, &sc);
     if (status == BRDFFIT_OK) status = polish_all(&st, &sc);
-    if (status == BRDFFIT_OK) status = bf_result_keep_report(run->result, st.opt, &run->fit->alloc);
-    else status = auto_fail(&st, status);
+    if (status == BRDFFIT_OK && run->result->stop == BRDFFIT_STOP_NONE)
+        status = bf_result_keep_report(run->result, NULL, &run->fit->alloc); /* no polish */
+    if (status != BRDFFIT_OK) status = auto_fail(&st, status);
     bf_stage_free(&st);
     return status;
 }

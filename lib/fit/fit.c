@@ -27,6 +27,7 @@ static void fit_free_arrays(brdffit_fit *fit)
     bf_free(&fit->alloc, fit->fixed);
     bf_free(&fit->alloc, fit->result.params);
     bf_free(&fit->alloc, fit->result.history);
+    bf_trace_free(&fit->result.trace, &fit->alloc);
 }
 
 static brdffit_status fit_alloc_arrays(brdffit_fit *fit)
@@ -245,6 +246,7 @@ void brdffit_fit_cancel(brdffit_fit *fit)
 static void keep_result(brdffit_fit *fit, const bf_result *r, brdffit_status status)
 {
     bf_free(&fit->alloc, fit->result.history);
+    bf_trace_free(&fit->result.trace, &fit->alloc);
     fit->result = *r;
     fit->has_result = status == BRDFFIT_OK;
 }

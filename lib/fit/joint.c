@@ -13,6 +13,7 @@ brdffit_status bf_pipeline_joint(bf_run *run)
     bf_stage st;
     brdffit_status status = bf_stage_init(&st, run, run->fit->nc, BF_SOURCE_CHANNELS, 0, 0);
     if (status != BRDFFIT_OK) return status;
+    st.kind = BRDFFIT_STAGE_JOINT;
     status = bf_stage_lm(&st, st.base, r->params, r->std_errors);
     if (status == BRDFFIT_OK) status = bf_result_keep_report(r, st.opt, &run->fit->alloc);
     bf_stage_free(&st);
@@ -48,6 +49,8 @@ static brdffit_status second_stage(bf_run *run, const bf_stage *first, const dou
     bf_stage st;
     brdffit_status status = bf_stage_init(&st, run, 1, BF_SOURCE_ONE_CHANNEL, c, 1);
     if (status != BRDFFIT_OK) return status;
+    st.kind = BRDFFIT_STAGE_CHANNEL;
+    st.label = c;
     status = bf_stage_lm(&st, p1, work, work + st.n);
     if (status == BRDFFIT_OK) place_channel(run, first, p1, se1, &st, work, work + st.n, c);
     if (status == BRDFFIT_OK && last)
@@ -62,7 +65,9 @@ static brdffit_status two_stages(bf_run *run, bf_stage *first, double *work)
 {
     size_t c, n = first->n, nc = run->fit->nc;
     double *p1 = work, *se1 = work + n;
-    brdffit_status status = bf_stage_lm(first, first->base, p1, se1);
+    brdffit_status status;
+    first->kind = BRDFFIT_STAGE_MEAN;
+    status = bf_stage_lm(first, first->base, p1, se1);
     for (c = 0; status == BRDFFIT_OK && c < nc && !run->cancelled; c++)
         status = second_stage(run, first, p1, se1, c, c + 1 == nc, work + 2 * n);
     if (status != BRDFFIT_OK || !run->cancelled || c == nc) return status;

@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "brdffit/optim.h"
+#include "fit/trace.h"
 
 #define BF_FIT_MESSAGE_SIZE 512
 
@@ -21,6 +22,7 @@ typedef struct bf_result {
     size_t passes;              /* over the samples, the whole run */
     double *history;            /* 2 * history_len: costs then lambdas; owned */
     size_t history_len;
+    bf_trace trace;             /* every stage and the whole history; owned */
     char *message;              /* BF_FIT_MESSAGE_SIZE bytes (lent): why the run failed */
 } bf_result;
 

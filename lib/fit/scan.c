@@ -81,7 +81,8 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
-    return bf_varpro_profile(st, cost);
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, cost));
+    return bf_trace_scan(&st->run->result->trace, &st->run->fit->alloc, *cost);
 }
 
 /* Keep the best BF_MAX_CANDIDATES local minima, best first. */

@@ -43,7 +43,8 @@ brdffit_status bf_scan_refine(bf_stage *st, bf_scan *sc, size_t n);
 void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u);
 
 /* The profile cost at scan coordinates u, st->p set to the point with its
- * best colours; HUGE_VAL without evaluating when the fit is cancelled. */
+ * best colours, recorded in the run's trace (trace.h); HUGE_VAL without
+ * evaluating when the fit is cancelled. */
 brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
                                   double *cost);
 

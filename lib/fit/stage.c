@@ -54,14 +54,25 @@ static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t sourc
     bf_pass_prepare(&st->pb);
 }
 
-/* Mean over the fit's channels of the start values of declared k. */
-static double start_value(const brdffit_fit *fit, size_t k, size_t m, size_t nc)
+/* The fit's start value of declared k in the fit's channel c. */
+static double fit_start(const brdffit_fit *fit, size_t k, size_t c)
 {
+    return fit->start[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
+}
+
+/* The start value of declared k in model channel m: the fit's own for the
+ * fit's channels, one channel of it or a shared parameter, else the mean
+ * over its channels. */
+static double start_value(const bf_stage *st, size_t k, size_t m, size_t nc)
+{
+    const brdffit_fit *fit = st->run->fit;
+    int per = (brdffit_model_param(fit->model, k)->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
     size_t c;
     double sum = 0.0;
-    if (nc == fit->nc) return fit->start[brdffit_model_vector_index(fit->model, k, m, nc)];
-    for (c = 0; c < fit->nc; c++)
-        sum += fit->start[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
+    if (nc == fit->nc) return fit_start(fit, k, m);
+    if (st->pb.source == BF_SOURCE_ONE_CHANNEL || !per)
+        return fit_start(fit, k, st->pb.source_channel);
+    for (c = 0; c < fit->nc; c++) sum += fit_start(fit, k, c);
     return sum / (double)fit->nc;
 }
 
@@ -81,7 +92,7 @@ static void fill_mapping(bf_stage *st, size_t nc, int fix_shared)
             st->upper[e] = info->upper;
             st->olower[e] = st->logs[e] ? log(info->lower) : info->lower;
             st->oupper[e] = st->logs[e] ? log(info->upper) : info->upper;
-            st->base[e] = start_value(fit, k, m, nc);
+            st->base[e] = start_value(st, k, m, nc);
         }
     }
     st->pb.vindex = st->vindex;
@@ -142,10 +153,14 @@ double bf_stage_natural(const bf_stage *st, size_t e, double x)
     return v < st->lower[e] ? st->lower[e] : (v > st->upper[e] ? st->upper[e] : v);
 }
 
+/* Parameters the fit holds are their start values exactly (exp(log(v))
+ * need not give v back). */
 static void to_natural(const bf_stage *st, const double *x, double *p)
 {
+    const unsigned char *held = st->run->fit->fixed;
     size_t e;
-    for (e = 0; e < st->n; e++) p[e] = bf_stage_natural(st, e, x[e]);
+    for (e = 0; e < st->n; e++)
+        p[e] = held[st->decl[e]] ? st->base[e] : bf_stage_natural(st, e, x[e]);
 }
 
 static void to_optimiser(const bf_stage *st, const double *p, double *x)
@@ -239,6 +254,17 @@ static void collect(bf_stage *st, const double *x, double *params, double *se)
         if (st->logs[e]) se[e] *= params[e];
 }
 
+/* Parameters the fit holds stay at their start values whatever point the
+ * run starts from (two-stage's second stage starts from the first's
+ * result, where a held colour has the channels' mean). */
+static void hold_at_start(bf_stage *st)
+{
+    size_t e;
+    for (e = 0; e < st->n; e++)
+        if (st->run->fit->fixed[st->decl[e]])
+            st->x[e] = st->logs[e] ? log(st->base[e]) : st->base[e];
+}
+
 /* The stage's channel has no value to fit (the run checked that some
  * channel has). */
 static brdffit_status no_rows(bf_stage *st)
@@ -265,8 +291,10 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     status = configure(st, rows);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "configuring the optimizer");
     to_optimiser(st, start, st->x);
+    hold_at_start(st);
     status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
     collect(st, st->x, params, se);
-    return BRDFFIT_OK;
+    return bf_trace_lm(&st->run->result->trace, &fit->alloc, st->kind, st->label, st->opt,
+                       &st->traced);
 }

@@ -40,6 +40,9 @@ typedef struct bf_stage {
     double *shown;          /* n: natural point shown to the user's callback */
     double *acc;            /* accumulator of any pass */
     double cost;            /* final cost of the last LM run */
+    brdffit_fit_stage_kind kind; /* the label of its LM runs in the trace: */
+    size_t label;           /* kind and index (brdffit_fit_stage) */
+    size_t traced;          /* the trace's stage number of the last LM run */
     brdffit_optimizer *opt; /* the last LM run's optimizer */
     brdffit_status status;  /* last pass failure, for the message */
     brdffit_error err;
@@ -63,7 +66,8 @@ brdffit_status bf_stage_pass(bf_stage *st, bf_pass_kind kind);
 /* One LM run from natural `start` (clamped into the bounds): the natural
  * result into params and its standard errors into se (n each, the
  * caller's), the final cost into st->cost; st->opt is kept for the
- * history. */
+ * history, and the run is recorded in the run's trace as a kept stage
+ * labelled st->kind, st->label (its number in st->traced). */
 brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, double *se);
 
 /* Word a failure of the stage (`what` failed) into the run's message and

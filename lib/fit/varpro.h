@@ -6,9 +6,11 @@
 
 #include "fit/stage.h"
 
-/* The profile cost at the natural point st->p (shape entries set, linear
- * entries ignored): the best bounded colours of every channel are written
- * into st->p and the cost into *cost. Needs bf_layout_projectable(). */
+/* The profile cost at the natural point st->p (shape entries set, free
+ * linear entries ignored): the best bounded colours of every channel are
+ * written into st->p and the cost into *cost. Held linear entries
+ * (st->fixed) are constants at their values in st->p and only the free
+ * ones are solved. Needs bf_layout_projectable(). */
 brdffit_status bf_varpro_profile(bf_stage *st, double *cost);
 
 #endif

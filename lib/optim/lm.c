@@ -132,23 +132,31 @@ static void note_scale(bf_optim_work *w, size_t p)
 
 /* Evaluate the trial point; move there when the cost is lower and the
  * derivatives there can be computed. Returns whether the step was
- * accepted; sets run->rho. */
+ * accepted; sets run->rho. The normal-equation form evaluates the trial
+ * with J^T J and J^T r at once: one pass over the caller's data gives them
+ * for little more than the cost alone (the fit's fused pass), so an
+ * accepted step costs one evaluation, not two. The residual form
+ * evaluates the cost first (its Jacobian is a callback of its own). */
 static int try_step(lm_run *run)
 {
     brdffit_optimizer *opt = run->opt;
     bf_optim_work *w = &opt->w;
+    int fused = opt->form == BF_FORM_NORMAL;
     double cost_trial, cost_new;
     run->rho = 0.0;
     if (!(run->pred > 0.0)) return 0; /* the model sees no gain: not evaluated */
     run->evaluations++;
-    if (bf_optim_eval(opt, w->trial, 0, &cost_trial, NULL, NULL, NULL, 0) != BRDFFIT_OK) {
+    if (bf_optim_eval(opt, w->trial, fused, &cost_trial, w->jtj_new, w->g_new, NULL, 0) !=
+        BRDFFIT_OK) {
         run->rho = NAN;
         return 0;
     }
     run->rho = (run->cost - cost_trial) / run->pred;
     if (!(cost_trial < run->cost)) return 0;
-    run->evaluations++;
-    if (bf_optim_eval(opt, w->trial, 1, &cost_new, w->jtj_new, w->g_new, NULL, 0) != BRDFFIT_OK) {
+    cost_new = cost_trial;
+    if (!fused) run->evaluations++;
+    if (!fused &&
+        bf_optim_eval(opt, w->trial, 1, &cost_new, w->jtj_new, w->g_new, NULL, 0) != BRDFFIT_OK) {
         run->rho = NAN;
         return 0;
     }

@@ -11,6 +11,11 @@
     check_json.py near OUT REL NAME=V[:V...]...
         the first line's params match the values within relative tolerance
         REL (NAME=V for a shared parameter, NAME=V1:V2:V3 per channel).
+    check_json.py stages OUT CONVERGED KIND[:INDEX]...
+        the first line's "converged" is CONVERGED (true or false) and its
+        stages are those, in order; every stage is well formed, exactly
+        the documented ones are kept, and the last kept stage's stop and
+        iterations are the object's.
 """
 import json
 import math
@@ -113,6 +118,44 @@ def settings(path, specs):
     print("ok: %s" % " ".join(specs))
 
 
+STAGE_KEYS = ["stage", "index", "kept", "converged", "stop", "iterations", "evaluations",
+              "cost", "lambda"]
+
+
+def check_stage(s, i):
+    if list(s.keys()) != STAGE_KEYS:
+        fail("stage %d: keys %s, expected %s" % (i, list(s.keys()), STAGE_KEYS))
+    n = len(s["cost"])
+    if s["stage"] == "scan":
+        ok = (n == s["evaluations"] and s["iterations"] == 0 and s["stop"] == "none"
+              and not s["kept"] and all(b <= a for a, b in zip(s["cost"], s["cost"][1:])))
+    else:
+        ok = n == s["iterations"] + 1 and s["evaluations"] >= 1
+    if not ok or len(s["lambda"]) != n or not all(is_number(v) for v in s["cost"] + s["lambda"]):
+        fail("stage %d is not well formed: %s" % (i, json.dumps(s)))
+
+
+def stages(path, converged, kinds):
+    obj = read_lines(path)[0]
+    if obj.get("converged") is not (converged == "true"):
+        fail("converged is %r, expected %s" % (obj.get("converged"), converged))
+    got = ["%s:%d" % (s["stage"], s["index"]) for s in obj["stages"]]
+    want = [k if ":" in k else k + ":0" for k in kinds]
+    if got != want:
+        fail("stages %s, expected %s" % (got, want))
+    for i, s in enumerate(obj["stages"]):
+        check_stage(s, i)
+    kept = [s for s in obj["stages"] if s["kept"]]
+    polishes = [s for s in obj["stages"] if s["stage"] == "polish"]
+    if polishes and len(kept) != 1:
+        fail("auto keeps exactly one polish, not %d" % len(kept))
+    if not polishes and len(kept) != len(obj["stages"]):
+        fail("joint and two-stage keep every stage")
+    if kept[-1]["stop"] != obj["stop"] or kept[-1]["iterations"] != obj["iterations"]:
+        fail("the fit's stop and iterations are not its final stage's")
+    print("ok: %s" % " ".join(got))
+
+
 def main(argv):
     if len(argv) >= 3 and argv[1] == "schema":
         schema(argv[2], argv[3:])
@@ -120,8 +163,11 @@ def main(argv):
         settings(argv[2], argv[3:])
     elif len(argv) >= 5 and argv[1] == "near":
         near(argv[2], float(argv[3]), argv[4:])
+    elif len(argv) >= 5 and argv[1] == "stages":
+        stages(argv[2], argv[3], argv[4:])
     else:
-        fail("usage: check_json.py schema OUT [FILE...] | near OUT REL NAME=V...")
+        fail("usage: check_json.py schema OUT [FILE...] | near OUT REL NAME=V... | "
+             "stages OUT CONVERGED KIND[:INDEX]...")
 
 
 if __name__ == "__main__":

@@ -144,6 +144,9 @@ void cli_assign_free(cli_assign_list *list);
 /* Fill a parameter vector for n_channels: model defaults, then the list. */
 int cli_assign_vector(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
                       double *params, char *msg, size_t msg_size);
+/* Write the list's values into a filled parameter vector for n_channels. */
+int cli_assign_apply(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
+                     double *params, char *msg, size_t msg_size);
 
 /* --- preview*.c (cairo) ------------------------------------------------------ */
 

@@ -27,6 +27,12 @@ static const char fit_help[] =
     "  --no-solid-angle      do not weight residuals by the solid angle of the cell\n"
     "  --no-cosine           do not weight residuals by cos theta_i\n"
     "  --clearcoat R0        divide the data by 1 - F(theta_i), Schlick F with R0\n"
+    "  --fix LIST            hold parameters at values, NAME=VALUE or\n"
+    "                        NAME=V1:V2:V3, comma-separated (every pipeline)\n"
+    "  --free LIST           let parameters the model holds by default (F0) move,\n"
+    "                        NAME,NAME,...\n"
+    "  --damping POLICY      Levenberg-Marquardt damping: nielsen (default),\n"
+    "                        marquardt or thesis\n"
     "  --max-iterations N    iteration limit of each Levenberg-Marquardt run\n"
     "  --threads N           files fitted in parallel (one file: threads of the fit)\n"
     "  --json                one JSON object per file on stdout, one per line\n"
@@ -51,6 +57,8 @@ static const char fit_help[] =
 
 typedef struct fit_opts {
     const char *model_name, *start_text, *csv_path, *preview, *gltf, *mtlx, *report;
+    const char *fix_text, *free_text;
+    const brdffit_damping *damping; /* NULL: the library's default */
     brdffit_pipeline pipeline;
     brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
@@ -64,6 +72,7 @@ typedef struct fit_run {
     const fit_opts *opts;
     const brdffit_model *model;
     const cli_assign_list *start;
+    const fit_holds *holds;
     char **files;
     size_t n_files, next, n_done;
     fit_result *results;
@@ -85,7 +94,6 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
 {
     const fit_opts *o = run->opts;
     char msg[CLI_MSG_SIZE];
-    double *start;
     brdffit_status st = BRDFFIT_OK;
     double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
     if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
@@ -94,18 +102,13 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, o->clearcoat)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, threads)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set_damping(fit, o->damping)) != BRDFFIT_OK ||
         (o->max_iterations > 0 && (st = brdffit_fit_set(fit, BRDFFIT_FIT_MAX_ITERATIONS,
                                                         (double)o->max_iterations)) != BRDFFIT_OK))
         return fail(r, st, brdffit_fit_message(fit));
-    if (run->start->count == 0) return 0;
-    start = malloc(r->n_params * sizeof(double));
-    if (start == NULL) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
-    if (cli_assign_vector(run->start, run->model, r->n_channels, start, msg, sizeof msg) != 0)
-        fail(r, BRDFFIT_E_INVALID_ARGUMENT, msg);
-    else if ((st = brdffit_fit_set_start(fit, start)) != BRDFFIT_OK)
-        fail(r, st, brdffit_fit_message(fit));
-    free(start);
-    return r->error[0] != '\0' ? -1 : 0;
+    if (fit_holds_apply(run->holds, run->start, fit, run->model, r->n_channels, msg, sizeof msg))
+        return fail(r, BRDFFIT_E_INVALID_ARGUMENT, msg);
+    return 0;
 }
 
 static void collect_warnings(const brdffit_fit *fit, fit_result *r)
@@ -134,7 +137,7 @@ static void collect_settings(const brdffit_fit *fit, fit_result *r)
         r->max_iterations = (size_t)v;
 }
 
-static int collect(brdffit_fit *fit, fit_result *r)
+static int collect(brdffit_fit *fit, const fit_run *run, fit_result *r)
 {
     size_t nc = r->n_channels;
     r->params = calloc(r->n_params, sizeof(double));
@@ -152,6 +155,9 @@ static int collect(brdffit_fit *fit, fit_result *r)
     r->has_shader = brdffit_fit_shader(fit, &r->rs, r->shader_cd, r->shader_cs) == BRDFFIT_OK;
     r->iterations = brdffit_fit_iterations(fit);
     r->stop = brdffit_fit_stop_reason(fit);
+    if (fit_history_collect(fit, r) != 0) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
+    r->held = fit_holds_held(run->holds, run->model);
+    if (r->held == NULL) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
     collect_warnings(fit, r);
     collect_settings(fit, r);
     r->fitted = 1;
@@ -267,7 +273,7 @@ static void fit_one(const fit_run *run, fit_result *r)
         r->fit_ms = cli_now_ms() - t0;
         if (st != BRDFFIT_OK)
             fail(r, st, brdffit_fit_message(fit));
-        else if (collect(fit, r) == 0 && (run->opts->preview != NULL || run->opts->report != NULL))
+        else if (collect(fit, run, r) == 0 && (run->opts->preview != NULL || run->opts->report != NULL))
             write_preview(fit, grid, run, r);
         if (r->fitted && run->opts->gltf != NULL) write_export(run, r, run->opts->gltf, 0);
         if (r->fitted && run->opts->mtlx != NULL) write_export(run, r, run->opts->mtlx, 1);
@@ -428,7 +434,14 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->gltf = value;
     else if (strcmp(name, "mtlx") == 0)
         o->mtlx = value;
-    else if (strcmp(name, "objective") == 0) {
+    else if (strcmp(name, "fix") == 0)
+        o->fix_text = value;
+    else if (strcmp(name, "free") == 0)
+        o->free_text = value;
+    else if (strcmp(name, "damping") == 0) {
+        if (!cli_parse_damping(value, &o->damping))
+            return cli_usage_error("fit", "--damping is nielsen, marquardt or thesis");
+    } else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
     } else if (strcmp(name, "pipeline") == 0) {
@@ -482,8 +495,8 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
-                                         {"objective", 1}, {"report", 1},
-                                         {NULL, 0}};
+                                         {"objective", 1}, {"report", 1},  {"fix", 1},
+                                         {"free", 1},      {"damping", 1}, {NULL, 0}};
     cli_args a;
     const char *name, *value;
     int r, n_files = 0;
@@ -541,6 +554,7 @@ static int fit_files(const fit_opts *o, char **files, size_t n_files)
     brdffit_model *model = NULL;
     brdffit_error err;
     cli_assign_list start = {0, NULL};
+    fit_holds holds;
     char msg[CLI_MSG_SIZE];
     fit_run run;
     int rc;
@@ -552,10 +566,16 @@ static int fit_files(const fit_opts *o, char **files, size_t n_files)
         brdffit_model_destroy(model);
         return cli_usage_error("fit", "--start: %s", msg);
     }
+    if (fit_holds_parse(&holds, model, o->fix_text, o->free_text, msg, sizeof msg) != 0) {
+        cli_assign_free(&start);
+        brdffit_model_destroy(model);
+        return cli_usage_error("fit", "%s", msg);
+    }
     memset(&run, 0, sizeof run);
     run.opts = o;
     run.model = model;
     run.start = &start;
+    run.holds = &holds;
     run.files = files;
     run.n_files = n_files;
     run.results = calloc(n_files, sizeof(fit_result));
@@ -580,6 +600,7 @@ static int fit_files(const fit_opts *o, char **files, size_t n_files)
     free(run.results);
     free(run.done);
     cli_assign_free(&start);
+    fit_holds_free(&holds);
     brdffit_model_destroy(model);
     return rc;
 }

@@ -11,7 +11,12 @@ void fit_result_free(fit_result *r)
     free(r->se);
     free(r->shader_cd);
     free(r->shader_cs);
-    r->params = r->se = r->shader_cd = r->shader_cs = NULL;
+    free(r->stages);
+    free(r->history);
+    free(r->held);
+    r->held = NULL;
+    r->params = r->se = r->shader_cd = r->shader_cs = r->history = r->lambdas = NULL;
+    r->stages = NULL;
 }
 
 const char *cli_stop_token(brdffit_stop_reason reason)
@@ -110,11 +115,13 @@ static void summary_param(cli_buf *b, const fit_result *r, size_t k)
 {
     size_t c, n = param_width(r, k);
     /* names of 12 characters or more ("clearcoatRoughness") still get a space */
+    int held = r->held != NULL && r->held[k];
     cli_buf_printf(b, "  %-11s ", brdffit_model_param(r->model, k)->name);
-    for (c = 0; c < n; c++)
-        cli_buf_printf(b, "%s%.6g +- %.2g", c ? ", " : "", param_at(r, r->params, k, c),
-                       param_at(r, r->se, k, c));
-    cli_buf_puts(b, "\n");
+    for (c = 0; c < n; c++) {
+        cli_buf_printf(b, "%s%.6g", c ? ", " : "", param_at(r, r->params, k, c));
+        if (!held) cli_buf_printf(b, " +- %.2g", param_at(r, r->se, k, c));
+    }
+    cli_buf_puts(b, held ? " (held)\n" : "\n");
 }
 
 static void summary_list(cli_buf *b, const double *v, size_t n)
@@ -147,8 +154,9 @@ void fit_summary(cli_buf *b, const fit_result *r)
     } else
         cli_buf_puts(b, "none (needs colours cd and cs with max(cs) < 1)\n");
     cli_buf_printf(b, "  %-12se %.6g, E %.6g, cost %.6g\n", "errors", r->rms, r->ngan, r->cost);
-    cli_buf_printf(b, "  %-12s%zu (%s)\n", "iterations", r->iterations,
-                   brdffit_stop_reason_string(r->stop));
+    cli_buf_printf(b, "  %-12s%zu (%s), %s\n", "iterations", r->iterations,
+                   brdffit_stop_reason_string(r->stop),
+                   r->converged ? "converged" : "not converged");
     for (k = 0; k < r->n_warnings; k++)
         cli_buf_printf(b, "  %-12s%s: %s\n", k == 0 ? "warnings" : "",
                        brdffit_warning_name(r->warnings[k].bit), r->warnings[k].text);
@@ -211,6 +219,19 @@ static void json_failure(cli_buf *b, const fit_result *r)
     cli_buf_puts(b, "}}\n");
 }
 
+/* "held": [NAME, ...]: the parameters the fit held */
+static void json_held(cli_buf *b, const fit_result *r)
+{
+    size_t k, n = 0;
+    cli_buf_puts(b, ", \"held\": [");
+    for (k = 0; r->held != NULL && k < brdffit_model_param_count(r->model); k++) {
+        if (!r->held[k]) continue;
+        if (n++) cli_buf_puts(b, ", ");
+        cli_buf_json_string(b, brdffit_model_param(r->model, k)->name);
+    }
+    cli_buf_puts(b, "]");
+}
+
 /* "warnings": [{"name": ..., "text": ...}, ...] */
 static void json_warnings(cli_buf *b, const fit_result *r)
 {
@@ -267,6 +288,8 @@ void fit_json(cli_buf *b, const fit_result *r)
     cli_buf_json_string(b, r->source);
     cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu", r->n_samples, r->n_active);
     json_warnings(b, r);
+    json_held(b, r);
+    fit_history_json(b, r);
     cli_buf_puts(b, ", \"objective\": ");
     cli_buf_json_string(b, cli_objective_name(r->objective));
     cli_buf_puts(b, ", \"cap_deg\": ");
@@ -315,7 +338,7 @@ void fit_csv_header(cli_buf *b, const fit_result *r)
         for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cs_%zu", c);
     }
     cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms,warnings");
-    cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations");
+    cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations,converged");
 }
 
 static void csv_number(cli_buf *b, double x)
@@ -368,5 +391,6 @@ void fit_csv_row(cli_buf *b, const fit_result *r)
     cli_buf_puts(b, ",");
     cli_weighting_names(b, r->weighting, ";");
     csv_number(b, r->clearcoat);
-    cli_buf_printf(b, ",%zu\n", r->max_iterations);
+    cli_buf_printf(b, ",%zu", r->max_iterations);
+    cli_buf_printf(b, ",%d\n", r->converged ? 1 : 0);
 }

@@ -28,6 +28,7 @@ typedef struct fit_result {
     char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
     size_t n_channels, n_samples, n_active, n_params;
     double *params, *se; /* n_params each */
+    unsigned char *held; /* per declared parameter: held by the fit */
     int has_shader;
     double rs, *shader_cd, *shader_cs; /* n_channels each */
     double rms, ngan, cost;
@@ -36,9 +37,45 @@ typedef struct fit_result {
     double fit_ms;
     fit_warning warnings[CLI_MAX_WARNINGS];
     size_t n_warnings;
+    int converged;                /* brdffit_fit_converged() */
+    brdffit_fit_stage *stages;    /* n_stages: brdffit_fit_stage_info() */
+    size_t n_stages;
+    double *history, *lambdas;    /* n_history each: brdffit_fit_history_all() */
+    size_t n_history;
 } fit_result;
 
 void fit_result_free(fit_result *r);
+
+/* --- fit_history.c: the stages and the whole history --------------------- */
+
+/* Copy the fit's converged flag, stages and history into r; -1 when out of
+ * memory. */
+int fit_history_collect(const brdffit_fit *fit, fit_result *r);
+/* ', "converged": B, "stages": [{...}, ...]' for the JSON object. */
+void fit_history_json(cli_buf *b, const fit_result *r);
+
+/* --- fit_hold.c: --fix, --free, --damping -------------------------------- */
+
+typedef struct fit_holds {
+    cli_assign_list fix;  /* --fix NAME=VALUE,...: held at these values */
+    size_t *free_params;  /* --free NAME,...: declared indices let free */
+    size_t n_free;
+} fit_holds;
+
+/* Parse --fix and --free (either may be NULL) against the model; a name in
+ * both is an error. -1 with the message in msg. */
+int fit_holds_parse(fit_holds *h, const brdffit_model *model, const char *fix,
+                    const char *free_text, char *msg, size_t msg_size);
+void fit_holds_free(fit_holds *h);
+/* Free and hold the parameters, and set the start values (--start, then
+ * the held values on top) when either list has any. */
+int fit_holds_apply(const fit_holds *h, const cli_assign_list *start, brdffit_fit *fit,
+                    const brdffit_model *model, size_t n_channels, char *msg, size_t msg_size);
+/* Per declared parameter, whether the fit holds it (the model's default
+ * with the lists applied); malloc'd, NULL when out of memory. */
+unsigned char *fit_holds_held(const fit_holds *h, const brdffit_model *model);
+/* "nielsen", "marquardt" or "thesis"; 0 for another name. */
+int cli_parse_damping(const char *name, const brdffit_damping **out);
 
 /* The objective's name on the command line and in JSON ("squares", "log",
  * "cube-root", "relative"), and back; 0 for an unknown name. */

@@ -1,4 +1,4 @@
-/* Parameter assignments "NAME=v,NAME=v1:v2:v3" (--start, synth --params). */
+/* Parameter assignments "NAME=v,NAME=v1:v2:v3" (--start, --fix, synth --params). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -92,12 +92,18 @@ int cli_assign_parse(cli_assign_list *list, const brdffit_model *model, const ch
 int cli_assign_vector(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
                       double *params, char *msg, size_t msg_size)
 {
-    size_t i, c;
     if (brdffit_model_default_params(model, n_channels, params) != BRDFFIT_OK) {
         cli_format(msg, msg_size, "cannot set up the parameters of model %s",
                    brdffit_model_name(model));
         return -1;
     }
+    return cli_assign_apply(list, model, n_channels, params, msg, msg_size);
+}
+
+int cli_assign_apply(const cli_assign_list *list, const brdffit_model *model, size_t n_channels,
+                     double *params, char *msg, size_t msg_size)
+{
+    size_t i, c;
     for (i = 0; i < list->count; i++) {
         const cli_assign *a = &list->items[i];
         const brdffit_param_info *info = brdffit_model_param(model, a->param);

@@ -32,7 +32,7 @@ from ._lib import DEFAULT_CAP, lib as _clib
 from . import image
 from .damping import DAMPING_POLICIES, DampingPolicy, PythonDamping
 from .errors import BrdffitError, Status, status_name, status_string
-from .fit import Fit, IterationInfo, METRICS, PIPELINES, STOP_REASONS
+from .fit import Fit, IterationInfo, METRICS, PIPELINES, STOP_REASONS, Stage
 from .grid import Grid, Weighting, default_axes
 from .many import ManyResult, fit_many
 from .model import JacobianReport, Model, ParamFlags, ParamInfo, ParamLayout
@@ -43,8 +43,8 @@ __version__ = "0.1.0"
 __all__ = ["BrdffitError", "DAMPING_POLICIES", "DEFAULT_CAP", "DampingPolicy", "Fit", "Grid",
            "IterationInfo", "JacobianReport", "METRICS", "ManyResult", "Model", "Optimizer",
            "PIPELINES", "ParamFlags", "ParamInfo", "ParamLayout", "PythonDamping",
-           "STOP_REASONS", "Status", "Weighting", "default_axes", "deg2rad", "fit_many", "image",
-           "library_path", "library_version", "rad2deg", "status_name", "status_string"]
+           "STOP_REASONS", "Stage", "Status", "Weighting", "default_axes", "deg2rad", "fit_many",
+           "image", "library_path", "library_version", "rad2deg", "status_name", "status_string"]
 
 
 def library_version():

@@ -275,6 +275,13 @@ class ImageOptions(Structure):
                 ("log_y", c_int)]
 
 
+class FitStage(Structure):
+    """struct brdffit_fit_stage (fit.h)."""
+    _fields_ = [("kind", c_int), ("index", c_size_t), ("first", c_size_t),
+                ("length", c_size_t), ("stop", c_int), ("iterations", c_size_t),
+                ("evaluations", c_size_t), ("converged", c_int), ("kept", c_int)]
+
+
 _U8 = POINTER(c_ubyte)
 _SZ = POINTER(c_size_t)
 _DAMP = POINTER(Damping)
@@ -309,6 +316,11 @@ _PROTOTYPES_OPTIM_IMAGE = {
     "brdffit_optimizer_covariance": (c_int, [_P, _D]),
     "brdffit_optimizer_std_errors": (c_int, [_P, _D]),
     "brdffit_fit_set_damping": (c_int, [_P, _DAMP]),
+    "brdffit_fit_converged": (c_int, [_P]),
+    "brdffit_fit_stage_count": (c_size_t, [_P]),
+    "brdffit_fit_stage_info": (c_int, [_P, c_size_t, POINTER(FitStage), c_size_t]),
+    "brdffit_fit_stage_name": (c_char_p, [c_int]),
+    "brdffit_fit_history_all": (c_size_t, [_P, _D, _D, _SZ]),
     "brdffit_image_options_init": (None, [_OPTS]),
     "brdffit_image_texture_size": (c_int, [_P, _OPTS, _SZ, _SZ, _E]),
     "brdffit_image_texture": (c_int, [_U8, c_size_t, c_int, _P, _P, _D, _OPTS, _ALLOC, _E]),

@@ -14,7 +14,7 @@ from ._lib import ALL_CHANNELS, dptr, lib
 from .errors import BrdffitError, Status, check, new_error
 from .grid import Weighting
 
-__all__ = ["Fit", "IterationInfo", "PIPELINES", "METRICS", "STOP_REASONS"]
+__all__ = ["Fit", "IterationInfo", "Stage", "PIPELINES", "METRICS", "STOP_REASONS"]
 
 #: Pipeline names and their ``brdffit_pipeline`` values.
 PIPELINES = {"auto": 0, "joint": 1, "two-stage": 2}
@@ -32,6 +32,15 @@ _PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4,
 #: point, the damping lambda after the iteration, the gain ratio rho and a copy
 #: of the current parameters (the LM run's own parameter vector).
 IterationInfo = collections.namedtuple("IterationInfo", "iteration accepted cost lambda_ rho x")
+
+#: One stage of a fit run (``brdffit_fit_stage``): ``kind`` (``"scan"``,
+#: ``"polish"``, ``"joint"``, ``"mean"`` or ``"channel"``), ``index`` (a
+#: polish's candidate rank, a channel stage's channel, else 0), ``kept``
+#: (its result is in the returned parameters), ``converged``, ``stop`` (one
+#: of :data:`STOP_REASONS`; ``"none"`` for the scan), ``iterations``,
+#: ``evaluations`` and its history ``cost`` and ``lambda_`` (arrays).
+Stage = collections.namedtuple(
+    "Stage", "kind index kept converged stop iterations evaluations cost lambda_")
 
 
 def _real(value, what):
@@ -66,6 +75,10 @@ class Fit(Handle):
       defaults (see :meth:`set_start`);
     - ``fixed``: names (or indices) of parameters to hold at their start
       value, or ``{name: bool}`` (see :meth:`set_fixed`);
+    - ``fix``: ``{name: value}``, parameters to hold at these values (see
+      :meth:`fix`); ``free``: names of parameters to let move (see
+      :meth:`free`);
+    - ``damping``: a damping policy or its name (see :meth:`set_damping`);
     - ``callback``: called after every LM iteration (see :meth:`set_callback`).
 
     The fit keeps its grid and model alive; close it (or use ``with``) to
@@ -87,6 +100,7 @@ class Fit(Handle):
         self._callback_error = None
         self._layout = model.layout(grid.channel_count)
         self._model_name = model.name
+        self._start = None  # the start vector last set, None for the defaults
         for parent in (grid, model):
             parent._acquire()
             self._parents.append(parent)
@@ -101,8 +115,10 @@ class Fit(Handle):
         self.configure(**options)
 
     def configure(self, pipeline=None, cap=None, weighting=None, clearcoat=None, threads=None,
-                  max_iterations=None, start=None, fixed=None, callback=None):
-        """Set several options at once; None leaves an option unchanged."""
+                  max_iterations=None, start=None, fixed=None, callback=None, fix=None,
+                  free=None, damping=None):
+        """Set several options at once; None leaves an option unchanged
+        (``start`` before ``fixed``, ``fix`` and ``free``)."""
         for name, value in (("pipeline", pipeline), ("cap", cap), ("weighting", weighting),
                             ("clearcoat", clearcoat), ("threads", threads),
                             ("max_iterations", max_iterations)):
@@ -112,6 +128,12 @@ class Fit(Handle):
             self.set_start(start)
         if fixed is not None:
             self.set_fixed(fixed)
+        if fix is not None:
+            self.fix(fix)
+        if free is not None:
+            self.free(free)
+        if damping is not None:
+            self.set_damping(damping)
         if callback is not None:
             self.set_callback(callback)
         return self
@@ -260,6 +282,7 @@ class Fit(Handle):
         with self._idle() as h:
             if start is None:
                 self._check(lib.brdffit_fit_set_start(h, None))
+                self._start = None
                 return
             if isinstance(start, dict):
                 vec = self._layout.pack(start)
@@ -269,6 +292,7 @@ class Fit(Handle):
                 raise ValueError("start has %d entries, expected %d"
                                  % (vec.size, self.param_count))
             self._check(lib.brdffit_fit_set_start(h, dptr(vec)))
+            self._start = vec.copy()
 
     def set_fixed(self, params, fixed=True):
         """Hold parameters fixed at their start value, or free them.
@@ -290,6 +314,34 @@ class Fit(Handle):
                 raise ValueError("parameter index must be >= 0, got %d" % k)
             with self._idle() as h:
                 self._check(lib.brdffit_fit_set_fixed(h, k, 1 if f else 0))
+
+    def fix(self, values):
+        """Hold parameters at values, in every pipeline.
+
+        Args:
+            values: ``{name: value}``; a per-channel parameter takes one
+                value for every channel or one per channel. The values
+                become the start values of those parameters (the others keep
+                the start values last set) and the parameters are held:
+                every pipeline returns them exactly, with standard error 0.
+
+        Raises:
+            BrdffitError: ``E_RANGE`` for a value outside the model's
+                bounds (nothing changes then); ``E_NOT_FOUND`` for an
+                unknown name.
+        """
+        vec = self._layout.pack(values, self._start)
+        self.set_start(vec)
+        self.set_fixed(list(values), True)
+
+    def free(self, params):
+        """Let parameters move (those the model holds by default too, such
+        as the microfacet models' ``F0``): :meth:`set_fixed` with False.
+
+        Args:
+            params: a name or index, or an iterable of them.
+        """
+        self.set_fixed(params, False)
 
     def set_callback(self, fn):
         """Call ``fn(info)`` after every LM iteration (None removes it).
@@ -502,6 +554,43 @@ class Fit(Handle):
             if n:
                 lib.brdffit_fit_history(h, dptr(cost), dptr(lam))
         return cost, lam
+
+    def converged(self):
+        """Whether the last run's answer converged (``brdffit_fit_converged()``).
+
+        True when every LM run whose result is returned (auto: the polish
+        returned; joint: its run; two-stage: the mean stage and every
+        channel's stage) ended on a small gradient, step or cost reduction,
+        or a zero cost; False for an iteration or evaluation limit, a stall
+        (stop reason ``"stalled"``), a stop by the callback, a cancel, and
+        before a run. It judges the returned point as a stationary point,
+        not as the global minimum.
+        """
+        with self._idle() as h:
+            return bool(lib.brdffit_fit_converged(h))
+
+    def stages(self):
+        """Every stage of the last run in order: a list of :class:`Stage`
+        (auto: ``"scan"``, then one ``"polish"`` per competing candidate;
+        joint: ``"joint"``; two-stage: ``"mean"``, then one ``"channel"``
+        per channel). Empty before a successful run."""
+        out = []
+        with self._idle() as h:
+            n = lib.brdffit_fit_history_all(h, None, None, None)
+            cost, lam = np.empty(n), np.empty(n)
+            if n:
+                lib.brdffit_fit_history_all(h, dptr(cost), dptr(lam), None)
+            info = _lib.FitStage()
+            for i in range(lib.brdffit_fit_stage_count(h)):
+                self._check(lib.brdffit_fit_stage_info(h, i, ctypes.byref(info),
+                                                       ctypes.sizeof(info)))
+                part = slice(info.first, info.first + info.length)
+                stop = STOP_REASONS[info.stop] if 0 <= info.stop < len(STOP_REASONS) \
+                    else "unknown"
+                out.append(Stage(lib.brdffit_fit_stage_name(info.kind).decode(), info.index,
+                                 bool(info.kept), bool(info.converged), stop, info.iterations,
+                                 info.evaluations, cost[part].copy(), lam[part].copy()))
+        return out
 
     def __repr__(self):
         if self._closed:
