@@ -155,8 +155,10 @@ typedef struct cli_preview_input {
     const brdffit_grid *grid;
     const brdffit_model *model;
     const double *params;
-    const double *history; /* cost per iteration of the final LM run */
+    const double *history; /* brdffit_fit_history_all(): every stage in turn */
     size_t n_history;
+    const brdffit_fit_stage *stages; /* n_stages: brdffit_fit_stage_info() */
+    size_t n_stages;
     double gain, gamma;
     double rms, ngan, cost; /* e, E and the cost of the fit */
     double cap;             /* angle cap, radians */

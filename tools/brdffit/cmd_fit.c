@@ -185,27 +185,23 @@ static void write_report(const cli_preview_input *in, const fit_run *run, fit_re
 }
 
 /* --preview and --report. */
-static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_run *run,
-                          fit_result *r)
+static void write_preview(const brdffit_grid *grid, const fit_run *run, fit_result *r)
 {
     cli_preview_input in;
     char msg[CLI_MSG_SIZE], title[CLI_MSG_SIZE], base[128];
     char *name = run->opts->preview != NULL ? cli_preview_name(run->opts->preview, r->path)
                                             : NULL;
-    double *history = NULL;
-    size_t n = brdffit_fit_history(fit, NULL, NULL);
-    if ((name == NULL && run->opts->preview != NULL) ||
-        (n > 0 && (history = malloc(n * sizeof(double))) == NULL)) {
+    if (name == NULL && run->opts->preview != NULL) {
         fail(r, BRDFFIT_E_OUT_OF_MEMORY, "preview: out of memory");
-        free(name);
         return;
     }
-    brdffit_fit_history(fit, history, NULL);
     in.grid = grid;
     in.model = run->model;
     in.params = r->params;
-    in.history = history;
-    in.n_history = n;
+    in.history = r->history;
+    in.n_history = r->n_history;
+    in.stages = r->stages;
+    in.n_stages = r->n_stages;
     in.gain = run->opts->gain;
     in.gamma = run->opts->gamma;
     in.rms = r->rms;
@@ -223,7 +219,6 @@ static void write_preview(brdffit_fit *fit, const brdffit_grid *grid, const fit_
         fail(r, BRDFFIT_E_IO, full);
     }
     if (run->opts->report != NULL) write_report(&in, run, r);
-    free(history);
     free(name);
 }
 
@@ -274,7 +269,7 @@ static void fit_one(const fit_run *run, fit_result *r)
         if (st != BRDFFIT_OK)
             fail(r, st, brdffit_fit_message(fit));
         else if (collect(fit, run, r) == 0 && (run->opts->preview != NULL || run->opts->report != NULL))
-            write_preview(fit, grid, run, r);
+            write_preview(grid, run, r);
         if (r->fitted && run->opts->gltf != NULL) write_export(run, r, run->opts->gltf, 0);
         if (r->fitted && run->opts->mtlx != NULL) write_export(run, r, run->opts->mtlx, 1);
     }

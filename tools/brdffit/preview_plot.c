@@ -1,6 +1,6 @@
 /* The plots of the preview, drawn with cairo on numbered axes: the cost
- * per iteration of the fit's final Levenberg-Marquardt run (what
- * brdffit_fit_history() returns), and measured and model values against
+ * of the whole fit, stage by stage (brdffit_fit_history_all(): the scan's
+ * best-so-far, then each Levenberg-Marquardt run), and measured and model values against
  * the half-angle theta_h (the angle between the surface normal and the
  * half vector of light and view), which also pictures scattered data. */
 #include <math.h>
@@ -27,19 +27,66 @@ static void range_of(const double *v, size_t n, int positive, double *lo, double
     if (!any) *lo = *hi = positive ? 1.0 : 0.0;
 }
 
+/* One colour per stage, the stage whose result is returned drawn thicker. */
+static const double stage_rgb[4][3] = {
+    {1.0, 0.75, 0.16}, {0.45, 0.62, 1.0}, {0.55, 0.85, 0.45}, {0.95, 0.45, 0.75}};
+
+static void stage_label(const brdffit_fit_stage *s, char *text, size_t size)
+{
+    const char *name = brdffit_fit_stage_name(s->kind);
+    if (s->kind == BRDFFIT_STAGE_POLISH || s->kind == BRDFFIT_STAGE_CHANNEL)
+        cli_format(text, size, "%s %zu%s", name, s->index, s->kept ? " (kept)" : "");
+    else
+        cli_format(text, size, "%s%s", name, s->kept ? " (kept)" : "");
+}
+
+/* Stage k's entries as a line with dots, and its label in the legend. */
+static void cost_stage(cairo_t *cr, const cli_preview_input *in, const draw_frame *f, size_t k,
+                       double *legend_x)
+{
+    const brdffit_fit_stage *s = &in->stages[k];
+    const double *rgb = stage_rgb[k % 4];
+    size_t i, end = s->first + s->length;
+    char text[64];
+    if (end > in->n_history) end = in->n_history;
+    cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+    cairo_set_line_width(cr, s->kept ? 2.5 : 1.2);
+    for (i = s->first; i < end; i++) {
+        double px = draw_fx(f, (double)i), py = draw_fy(f, in->history[i]);
+        if (i == s->first)
+            cairo_move_to(cr, px, py);
+        else
+            cairo_line_to(cr, px, py);
+    }
+    cairo_stroke(cr);
+    if (s->length <= 60)
+        for (i = s->first; i < end; i++) {
+            cairo_arc(cr, draw_fx(f, (double)i), draw_fy(f, in->history[i]), 2.2, 0, 2 * PV_PI);
+            cairo_fill(cr);
+        }
+    stage_label(s, text, sizeof text);
+    if (*legend_x + draw_text_width(cr, DRAW_SMALL, 0, text) + 20 > f->px + f->pw) return;
+    cairo_rectangle(cr, *legend_x, f->py + 6, 9, 9);
+    cairo_fill(cr);
+    draw_grey(cr, 0.85);
+    draw_text(cr, *legend_x + 12, f->py + 4, DRAW_SMALL, 0, 0.0, text);
+    *legend_x += draw_text_width(cr, DRAW_SMALL, 0, text) + 24;
+}
+
 void pv_cost_plot(cairo_t *cr, const cli_preview_input *in, double x, double y, double w,
                   double h)
 {
     draw_frame f;
     char text[200];
-    double lo = 0, hi = 0;
-    size_t i, n = in->n_history;
+    double lo = 0, hi = 0, legend_x;
+    size_t k, n = in->n_history;
     range_of(in->history, n, 1, &lo, &hi);
     if (n == 0)
-        cli_format(text, sizeof text, "cost per iteration: none recorded");
+        cli_format(text, sizeof text, "cost of the fit: none recorded");
     else
-        cli_format(text, sizeof text, "cost per iteration, final Levenberg-Marquardt run: "
-                   "%.4g \u2192 %.4g", in->history[0], in->history[n - 1]);
+        cli_format(text, sizeof text, "cost of the whole fit, %zu stage%s: %.4g \u2192 %.4g",
+                   in->n_stages, in->n_stages == 1 ? "" : "s", in->history[0],
+                   in->history[n - 1]);
     draw_grey(cr, 0.9);
     draw_text_fit(cr, x, y, DRAW_TEXT, 0, w, text);
     memset(&f, 0, sizeof f);
@@ -47,7 +94,7 @@ void pv_cost_plot(cairo_t *cr, const cli_preview_input *in, double x, double y, 
     f.y = y + LABEL;
     f.w = w;
     f.h = h - LABEL;
-    f.ax.title = "iteration";
+    f.ax.title = "step (scan: profile evaluations; LM: iterations)";
     f.ay.title = hi / lo >= 10.0 ? "cost (log)" : "cost";
     draw_axis_linear(&f.ax, 0.0, n > 1 ? (double)(n - 1) : 1.0);
     f.ax.integer = 1;
@@ -56,23 +103,14 @@ void pv_cost_plot(cairo_t *cr, const cli_preview_input *in, double x, double y, 
     else
         draw_axis_linear(&f.ay, lo, hi);
     draw_frame_axes(cr, &f);
-    cairo_set_source_rgb(cr, orange[0], orange[1], orange[2]);
-    cairo_set_line_width(cr, 2.0);
-    for (i = 0; i < n; i++) {
-        double px = draw_fx(&f, (double)i), py = draw_fy(&f, in->history[i]);
-        if (i == 0)
-            cairo_move_to(cr, px, py);
-        else
-            cairo_line_to(cr, px, py);
+    /* the legend at the top right, where costs have fallen */
+    legend_x = f.px + f.pw - 6;
+    for (k = 0; k < in->n_stages; k++) {
+        stage_label(&in->stages[k], text, sizeof text);
+        legend_x -= draw_text_width(cr, DRAW_SMALL, 0, text) + 24;
     }
-    cairo_stroke(cr);
-    for (i = 0; i < n; i++) {
-        cairo_arc(cr, draw_fx(&f, (double)i), draw_fy(&f, in->history[i]), 2.5, 0, 2 * PV_PI);
-        cairo_fill(cr);
-    }
-    draw_grey(cr, 0.6);
-    draw_text(cr, f.px + f.pw - 4, f.py + 4, DRAW_SMALL, 0, 1.0,
-              "the library keeps the final run's history only");
+    if (legend_x < f.px + 6) legend_x = f.px + 6;
+    for (k = 0; k < in->n_stages; k++) cost_stage(cr, in, &f, k, &legend_x);
 }
 
 /* --- values against the half-angle ------------------------------------------------ */
