@@ -46,6 +46,11 @@ typedef enum bf_pass_kind {
 
 #define BF_MAX_THREADS 64
 
+/* Instruction sets of the fused loop (pass_fused.h), in increasing order. */
+#define BF_ISA_BASE 0u
+#define BF_ISA_AVX2 1u
+#define BF_ISA_AVX512 2u
+
 struct bf_route;
 
 typedef struct bf_problem {
@@ -67,6 +72,8 @@ typedef struct bf_problem {
     /* set by bf_pass_prepare() */
     const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
     const struct bf_route *route;  /* how chunks are accumulated */
+    unsigned isa;                  /* the fused loop's version (BF_ISA_*): the best the
+                                    * machine runs; a test may lower it */
 } bf_problem;
 
 /* Choose the route of every pass of the problem from the routes' table;
