@@ -31,7 +31,7 @@ void bf_pass_prepare(bf_problem *pb)
     size_t i;
     pb->kernel = bf_model_basis(pb->model);
     pb->route = &bf_route_generic;
-    pb->isa = bf_fused_best_isa();
+    bf_fused_prepare(pb);
     /* only the generic route transforms residuals */
     if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES) return;
     for (i = 0; i < sizeof routes / sizeof routes[0]; i++)

@@ -46,10 +46,12 @@ typedef enum bf_pass_kind {
 
 #define BF_MAX_THREADS 64
 
-/* Instruction sets of the fused loop (pass_fused.h), in increasing order. */
-#define BF_ISA_BASE 0u
-#define BF_ISA_AVX2 1u
-#define BF_ISA_AVX512 2u
+/* Versions of the fused loop (pass_fused.h): the plain C loop, then the
+ * vector ones for the baseline instruction set, AVX2 and AVX-512. */
+#define BF_ISA_PLAIN 0u
+#define BF_ISA_BASE 1u
+#define BF_ISA_AVX2 2u
+#define BF_ISA_AVX512 3u
 
 struct bf_route;
 
@@ -74,6 +76,7 @@ typedef struct bf_problem {
     const struct bf_route *route;  /* how chunks are accumulated */
     unsigned isa;                  /* the fused loop's version (BF_ISA_*): the best the
                                     * machine runs; a test may lower it */
+    int lobe;                      /* the kernel has the one-lobe form (models/basis.h) */
 } bf_problem;
 
 /* Choose the route of every pass of the problem from the routes' table;

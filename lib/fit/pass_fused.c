@@ -35,163 +35,73 @@
 #include <string.h>
 
 #include "core/core.h"
-#include "core/fastmath.h"
+#include "fit/pass_lanes.h"
 #include "models/basis.h"
 
-#define LANES 8
-/* lanes of sums: NORMAL 7 + 3 nc, VARPRO 3 + 3 nc, COST 1 */
-#define MAX_SUMS 16
-#define INV_PI (1.0 / BF_PI)
-
-typedef double lanes_t[LANES];
-
-/* One chunk's inputs. */
-typedef struct lobe_in {
-    const double *w, *x, *g, *m[3];
-    double ns, k, dk, cd[3], cs[3];
-} lobe_in;
-
-/* NORMAL: sums [cost, G00 G01 G02 G11 G12 G22, H_c0 H_c1 H_c2 ...]. */
-static inline void normal_group(const lobe_in *in, size_t i, size_t nc, lanes_t *a)
+/* width 8 or 4: the vector sweeps; 0: the plain C one */
+static inline void sweep_impl(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
+                              double *acc, int width)
 {
-    size_t l, c;
-    for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l], x = in->x[i + l];
-        const double p = bf_exp(in->ns * x) * in->g[i + l];
-        const double b1 = in->k * p, db1 = (in->dk + in->k * x) * p;
-        const double u0 = w * INV_PI, u1 = w * b1, u2 = w * db1;
-        a[1][l] += u0 * u0;
-        a[2][l] += u0 * u1;
-        a[3][l] += u0 * u2;
-        a[4][l] += u1 * u1;
-        a[5][l] += u1 * u2;
-        a[6][l] += u2 * u2;
-        for (c = 0; c < nc; c++) {
-            const double d = ((-in->m[c][i + l] + in->cd[c] * INV_PI) + in->cs[c] * b1) * w;
-            a[0][l] += d * d;
-            a[7 + 3 * c][l] += u0 * d;
-            a[8 + 3 * c][l] += u1 * d;
-            a[9 + 3 * c][l] += u2 * d;
-        }
+#if BF_LANES_VECTOR
+    if (width == 8) {
+        sweep_w8(in, n, nc, kind, acc);
+        return;
     }
-}
-
-/* COST: [cost]. */
-static inline void cost_group(const lobe_in *in, size_t i, size_t nc, lanes_t *a)
-{
-    size_t l, c;
-    for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l];
-        const double b1 = in->k * (bf_exp(in->ns * in->x[i + l]) * in->g[i + l]);
-        for (c = 0; c < nc; c++) {
-            const double d = ((-in->m[c][i + l] + in->cd[c] * INV_PI) + in->cs[c] * b1) * w;
-            a[0][l] += d * d;
-        }
+    if (width == 4) {
+        sweep_w4(in, n, nc, kind, acc);
+        return;
     }
+#endif
+    (void)width;
+    sweep_plain(in, n, nc, kind, acc);
 }
 
-/* VARPRO: [G00 G01 G11, b_c0 b_c1 ..., rr_c ...] of u = w (1/pi, k P) and
- * the weighted values w m_c. */
-static inline void varpro_group(const lobe_in *in, size_t i, size_t nc, lanes_t *a)
-{
-    size_t l, c;
-    for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l];
-        const double b1 = in->k * (bf_exp(in->ns * in->x[i + l]) * in->g[i + l]);
-        const double u0 = w * INV_PI, u1 = w * b1;
-        a[0][l] += u0 * u0;
-        a[1][l] += u0 * u1;
-        a[2][l] += u1 * u1;
-        for (c = 0; c < nc; c++) {
-            const double r = w * in->m[c][i + l];
-            a[3 + 2 * c][l] += u0 * r;
-            a[4 + 2 * c][l] += u1 * r;
-            a[3 + 2 * nc + c][l] += r * r;
-        }
-    }
-}
-
-static inline void group(const lobe_in *in, size_t i, size_t nc, bf_pass_kind kind, lanes_t *a)
-{
-    if (kind == BF_PASS_NORMAL) normal_group(in, i, nc, a);
-    else if (kind == BF_PASS_COST) cost_group(in, i, nc, a);
-    else varpro_group(in, i, nc, a);
-}
-
-/* The chunk's samples beyond the last multiple of LANES, padded with
- * weight 0 (x = g = m = 0 too, so every padded term is an exact 0). */
-static inline void tail(const lobe_in *in, size_t i, size_t n, size_t nc, bf_pass_kind kind,
-                        lanes_t *a)
-{
-    double w[LANES] = {0.0}, x[LANES] = {0.0}, g[LANES] = {0.0}, m[3][LANES] = {{0.0}};
-    lobe_in t = *in;
-    size_t l, c;
-    for (l = 0; i + l < n; l++) {
-        w[l] = in->w[i + l];
-        x[l] = in->x[i + l];
-        g[l] = in->g[i + l];
-        for (c = 0; c < nc; c++) m[c][l] = in->m[c][i + l];
-    }
-    t.w = w;
-    t.x = x;
-    t.g = g;
-    for (c = 0; c < nc; c++) t.m[c] = m[c];
-    group(&t, 0, nc, kind, a);
-}
-
-static size_t sums_of(bf_pass_kind kind, size_t nc)
-{
-    return kind == BF_PASS_NORMAL ? 7 + 3 * nc : kind == BF_PASS_VARPRO ? 3 + 3 * nc : 1;
-}
-
-/* The sweep over one chunk with nc and kind constant after inlining; the
- * lanes live in locals for the whole chunk. */
-static inline void sweep(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
-{
-    lanes_t a[MAX_SUMS];
-    const size_t bytes = sums_of(kind, nc) * sizeof(lanes_t);
-    size_t i = 0;
-    memcpy(a, acc, bytes);
-    for (; i + LANES <= n; i += LANES) group(in, i, nc, kind, a);
-    if (i < n) tail(in, i, n, nc, kind, a);
-    memcpy(acc, a, bytes);
-}
-
+/* nc and kind made constants for the compiler */
 static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                             double *acc)
+                             double *acc, int width)
 {
     if (nc == 3) {
-        if (kind == BF_PASS_NORMAL) sweep(in, n, 3, BF_PASS_NORMAL, acc);
-        else if (kind == BF_PASS_COST) sweep(in, n, 3, BF_PASS_COST, acc);
-        else sweep(in, n, 3, BF_PASS_VARPRO, acc);
+        if (kind == BF_PASS_NORMAL) sweep_impl(in, n, 3, BF_PASS_NORMAL, acc, width);
+        else if (kind == BF_PASS_COST) sweep_impl(in, n, 3, BF_PASS_COST, acc, width);
+        else sweep_impl(in, n, 3, BF_PASS_VARPRO, acc, width);
     } else {
-        if (kind == BF_PASS_NORMAL) sweep(in, n, 1, BF_PASS_NORMAL, acc);
-        else if (kind == BF_PASS_COST) sweep(in, n, 1, BF_PASS_COST, acc);
-        else sweep(in, n, 1, BF_PASS_VARPRO, acc);
+        if (kind == BF_PASS_NORMAL) sweep_impl(in, n, 1, BF_PASS_NORMAL, acc, width);
+        else if (kind == BF_PASS_COST) sweep_impl(in, n, 1, BF_PASS_COST, acc, width);
+        else sweep_impl(in, n, 1, BF_PASS_VARPRO, acc, width);
     }
 }
 
-/* The three versions, chosen per problem (bf_problem.isa). */
+#if defined(__GNUC__) || defined(__clang__)
+#define BF_FLATTEN __attribute__((flatten))
+#else
+#define BF_FLATTEN
+#endif
+
+/* The versions, chosen per problem (bf_problem.isa). */
 #if BF_FUSED_HAVE_ISA
-__attribute__((target("avx512f"), flatten)) static void
+__attribute__((target("avx512f"))) BF_FLATTEN static void
 sweep_avx512(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, kind, acc);
+    sweep_any(in, n, nc, kind, acc, 8);
 }
 
-__attribute__((target("avx2"), flatten)) static void
+__attribute__((target("avx2"))) BF_FLATTEN static void
 sweep_avx2(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, kind, acc);
+    sweep_any(in, n, nc, kind, acc, 4);
 }
 #endif
 
-#if defined(__GNUC__)
-__attribute__((flatten))
-#endif
-static void sweep_base(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
+BF_FLATTEN static void sweep_base(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
+                                  double *acc)
 {
-    sweep_any(in, n, nc, kind, acc);
+    sweep_any(in, n, nc, kind, acc, 4);
+}
+
+BF_FLATTEN static void sweep_plain_c(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
+                                     double *acc)
+{
+    sweep_any(in, n, nc, kind, acc, 0);
 }
 
 unsigned bf_fused_best_isa(void)
@@ -204,11 +114,16 @@ unsigned bf_fused_best_isa(void)
     return BF_ISA_BASE;
 }
 
-int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
+void bf_fused_prepare(bf_problem *pb)
 {
     bf_lobe lobe;
-    if (kind == BF_PASS_METRICS || (pb->nc != 1 && pb->nc != 3)) return 0;
-    return bf_kernel_lobe(pb->kernel, 1.0, &lobe);
+    pb->isa = bf_fused_best_isa();
+    pb->lobe = pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe);
+}
+
+int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
+{
+    return pb->lobe && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3);
 }
 
 int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
@@ -227,6 +142,7 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
 {
     const bf_geometry *geo = bf_grid_geometry(pb->grid);
     const size_t first = sc->first, nc = pb->nc;
+    const int in_place = bf_fused_in_place(pb, kind);
     bf_lobe lobe;
     size_t c, i;
     bf_kernel_lobe(pb->kernel, params[0], &lobe);
@@ -246,8 +162,7 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     for (c = 0; c < nc; c++) {
         in->cd[c] = params[pb->vindex[1 * nc + c]];
         in->cs[c] = params[pb->vindex[2 * nc + c]];
-        in->m[c] = bf_fused_in_place(pb, kind) ? bf_grid_values(pb->grid, c) + first
-                                               : sc->meas + c * n;
+        in->m[c] = in_place ? bf_grid_values(pb->grid, c) + first : sc->meas + c * n;
     }
 }
 
@@ -267,7 +182,8 @@ void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *param
         return;
     }
 #endif
-    sweep_base(&in, n, pb->nc, kind, sc->acc);
+    if (pb->isa == BF_ISA_PLAIN) sweep_plain_c(&in, n, pb->nc, kind, sc->acc);
+    else sweep_base(&in, n, pb->nc, kind, sc->acc);
 }
 
 /* Lanes reduced in the fixed order of the file comment. */

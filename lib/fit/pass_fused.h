@@ -21,6 +21,10 @@
 /* The best version this machine runs (BF_ISA_*). */
 unsigned bf_fused_best_isa(void);
 
+/* Set pb->isa (the best version) and pb->lobe once per problem
+ * (bf_pass_prepare(), after pb->kernel). */
+void bf_fused_prepare(bf_problem *pb);
+
 /* Whether the fused loop accumulates the problem's passes of this kind
  * (COST, NORMAL, VARPRO of a one-lobe kernel with 1 or 3 channels; the
  * basis route's own checks, a kernel and no missing values, come first). */
