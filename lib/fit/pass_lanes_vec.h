@@ -23,9 +23,11 @@ static inline VD VN(vload)(const double *p)
 
 static inline VD VN(vsplat)(double x)
 {
-    VD v;
-    size_t l;
-    for (l = 0; l < VW; l++) v[l] = x;
+#if VW == 8
+    VD v = {x, x, x, x, x, x, x, x};
+#else
+    VD v = {x, x, x, x};
+#endif
     return v;
 }
 
