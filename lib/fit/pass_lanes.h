@@ -60,10 +60,9 @@ static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, ta
 
 #if defined(__GNUC__) || defined(__clang__)
 /* The helpers take and return vectors; they are static and inlined, so
- * no call crosses an ABI boundary (gcc warns about the vector ABI). */
-#if !defined(__clang__)
+ * no call crosses an ABI boundary (gcc and clang warn about the vector
+ * ABI). */
 #pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 #define BF_LANES_VECTOR 1
 /* 8-wide vectors (one zmm each with AVX-512) and 4-wide ones (one ymm
  * with AVX2, two xmm on the baseline), each running the lanes of a
