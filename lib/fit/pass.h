@@ -16,7 +16,9 @@
  *           d = M - R, a the solid-angle weight alone
  * The chunks are split into `threads` contiguous blocks, run by the pool's
  * helpers and the calling thread, and the blocks' partial sums are added in
- * block order, so a pass is deterministic for a given thread count.
+ * block order, so a pass is deterministic for a given thread count. The
+ * fused loop's versions (pass_fused.c) sum in lanes of a fixed layout, so
+ * every version gives the same bits too.
  *
  * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
  * for models in basis form (models/basis.h) on grids without missing
