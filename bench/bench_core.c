@@ -6,7 +6,11 @@
  *   normal    bf_pass(BF_PASS_NORMAL): the fused normal-equation pass of every LM step
  *   varpro    bf_pass(BF_PASS_VARPRO): the pass of the auto pipeline's scan
  *   naive     the naive reference of naive.c (same accumulator as normal)
- * Rows are active samples x channels; figures are ns per row (median). */
+ * Rows are active samples x channels; figures are ns per row (median).
+ * Then, for ashikhmin-shirley at cap 90, in the same run: the normal pass
+ * with the best version of the fused loop this CPU runs and with AVX2 at
+ * most, the probe-like minimal loop of probe.c likewise, and the naive
+ * pass. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +20,7 @@
 #include "grid/grid_internal.h"
 #include "harness.h"
 #include "naive.h"
+#include "probe.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
 #define MAX_BLOCKS 64
@@ -420,8 +425,9 @@ static void table_case(bh_output *out, const core_case *cc, const figures *f)
 
 /* What the targets need: ashikhmin-shirley at cap 90. */
 typedef struct target_figures {
-    double ns_per_row, ratio, ratio_cpu;
+    double ns_per_row, ratio, ratio_cpu, avx2_ns_per_row;
     size_t rows;
+    int avx512;
 } target_figures;
 
 static int run_case(bh_output *out, const brdffit_grid *grid, const char *name, double cap,
@@ -455,6 +461,84 @@ static int run_case(bh_output *out, const brdffit_grid *grid, const char *name, 
     return ok;
 }
 
+/* ---- the fused pass against the probe loop, same run ----------------------------- */
+
+typedef struct probe_ctx {
+    core_case *cc;
+    probe_data pd;
+    int avx512;
+    double sums[PROBE_SUMS];
+} probe_ctx;
+
+static int run_probe(void *ctx)
+{
+    probe_ctx *p = ctx;
+    probe_normal(&p->pd, p->avx512, p->sums);
+    return 0;
+}
+
+static void probe_line(bh_output *out, const char *what, const bh_stats *st, size_t rows,
+                       double ref_ns)
+{
+    bh_record r;
+    char name[96];
+    bh_table(out, "%-44s %8.3f %8.3f %8.2f\n", what, st->median_ns / (double)rows,
+             st->median_cpu_ns / (double)rows, ref_ns / st->median_ns);
+    snprintf(name, sizeof name, "ashikhmin-shirley/cap90/%s", what);
+    bh_rec_begin(&r, out, name);
+    bh_rec_stats(&r, st, rows);
+    bh_rec_num(&r, "ratio_vs_naive", ref_ns / st->median_ns);
+    bh_rec_end(&r, out);
+}
+
+/* The normal pass with the best fused version and with AVX2 at most, the
+ * probe with AVX-512 and AVX2, the naive pass: one run, same data. */
+static int probe_section(bh_output *out, const brdffit_grid *grid, target_figures *tf)
+{
+    core_case cc;
+    probe_ctx pc;
+    bh_stats st[5];
+    size_t first[MAX_BLOCKS], count[MAX_BLOCKS], b, reps = bh_repeats(out->opt, 21);
+    size_t warm = out->opt->smoke ? 0 : 2;
+    unsigned best;
+    int ok = 0;
+    memset(&pc, 0, sizeof pc);
+    if (case_init(&cc, grid, "ashikhmin-shirley", 90.0 * DEG) != BRDFFIT_OK) goto done;
+    for (b = 0; b < cc.n_blocks; b++) first[b] = cc.blocks[b].first, count[b] = cc.blocks[b].count;
+    pc.cc = &cc;
+    if (!probe_init(&pc.pd, grid, cc.cap, first, count, cc.n_blocks, cc.params, cc.vindex))
+        goto done;
+    best = cc.pb.isa;
+    pc.avx512 = 1;
+    if (bh_measure(run_normal, &cc, warm, reps, &st[0]) || bh_measure(run_probe, &pc, warm, reps,
+                                                                      &st[2]))
+        goto done;
+    cc.pb.isa = best < BF_ISA_AVX2 ? best : BF_ISA_AVX2;
+    pc.avx512 = 0;
+    if (bh_measure(run_normal, &cc, warm, reps, &st[1]) || bh_measure(run_probe, &pc, warm, reps,
+                                                                      &st[3]) ||
+        bh_measure(run_naive, &cc, warm > 0, bh_repeats(out->opt, 5), &st[4]))
+        goto done;
+    bh_table(out, "\nashikhmin-shirley, cap 90, %zu rows, same run: ns per row (wall, cpu), "
+                  "naive / this\n", cc.rows);
+    probe_line(out, best == BF_ISA_AVX512 ? "fused_normal_avx512" : "fused_normal_best", &st[0],
+               cc.rows, st[4].median_ns);
+    probe_line(out, "fused_normal_avx2", &st[1], cc.rows, st[4].median_ns);
+    probe_line(out, best == BF_ISA_AVX512 ? "probe_avx512" : "probe_best", &st[2], cc.rows,
+               st[4].median_ns);
+    probe_line(out, "probe_avx2", &st[3], cc.rows, st[4].median_ns);
+    probe_line(out, "naive_normal", &st[4], cc.rows, st[4].median_ns);
+    tf->ns_per_row = st[0].median_ns / (double)cc.rows;
+    tf->avx2_ns_per_row = st[1].median_ns / (double)cc.rows;
+    tf->avx512 = best == BF_ISA_AVX512;
+    ok = 1;
+done:
+    if (!ok) bh_fail(out, "the probe section failed: %s", cc.err.message);
+    probe_free(&pc.pd);
+    case_free(&cc);
+    return ok;
+}
+
 static void report_targets(bh_output *out, const target_figures *tf)
 {
     char measured[64];
@@ -462,6 +546,14 @@ static void report_targets(bh_output *out, const target_figures *tf)
     snprintf(measured, sizeof measured, "%.2f ns/row", tf->ns_per_row);
     bh_target(out, "fused NORMAL pass, ashikhmin-shirley, 75,924 rows (cap 90)", measured,
               "<= 1 ns/row", tf->ns_per_row <= 1.0);
+    if (tf->avx512) {
+        snprintf(measured, sizeof measured, "%.2f ns/row", tf->ns_per_row);
+        bh_target(out, "fused NORMAL pass with AVX-512, ashikhmin-shirley (cap 90)", measured,
+                  "<= 0.6 ns/row", tf->ns_per_row <= 0.6);
+    }
+    snprintf(measured, sizeof measured, "%.2f ns/row", tf->avx2_ns_per_row);
+    bh_target(out, "fused NORMAL pass with AVX2, ashikhmin-shirley (cap 90)", measured,
+              "<= 1 ns/row", tf->avx2_ns_per_row <= 1.0);
     snprintf(measured, sizeof measured, "%.1fx (cpu %.1fx)", tf->ratio, tf->ratio_cpu);
     bh_target(out, "fused NORMAL pass vs naive reference, ashikhmin-shirley", measured, ">= 30x",
               tf->ratio >= 30.0);
@@ -474,7 +566,7 @@ int main(int argc, char **argv)
     bh_output out;
     brdffit_grid *grid = NULL;
     brdffit_error err;
-    target_figures tf = {NAN, NAN, NAN, 0};
+    target_figures tf = {NAN, NAN, NAN, NAN, 0, 0};
     size_t m, c;
     int code;
     if (!bh_parse_args(argc, argv, "The inner loop: model evaluation and fused passes per row.",
@@ -489,6 +581,7 @@ int main(int argc, char **argv)
     for (c = 0; c < 2; c++)
         for (m = 0; m < brdffit_model_builtin_count(); m++)
             run_case(&out, grid, brdffit_model_builtin_name(m), caps[c], &tf);
+    if (opt.filter == NULL || bh_selected(&opt, "probe")) probe_section(&out, grid, &tf);
     if (opt.filter == NULL) report_targets(&out, &tf);
     brdffit_grid_destroy(grid);
     return bh_output_close(&out);

@@ -3,6 +3,7 @@
  * measured values, hands the chunk to the problem's route
  * (pass_route.h) and adds the blocks' partial sums in block order. */
 #include "fit/pass.h"
+#include "fit/pass_fused.h"
 #include "fit/pass_route.h"
 
 #include <math.h>
@@ -30,6 +31,7 @@ void bf_pass_prepare(bf_problem *pb)
     size_t i;
     pb->kernel = bf_model_basis(pb->model);
     pb->route = &bf_route_generic;
+    bf_fused_prepare(pb);
     /* only the generic route transforms residuals */
     if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES) return;
     for (i = 0; i < sizeof routes / sizeof routes[0]; i++)
@@ -133,7 +135,9 @@ static brdffit_status run_chunk(worker *wk, size_t ci)
     bf_weight_plan_chunk(pb->plan, ci, &first, &n, sc->w);
     if (wk->kind == BF_PASS_METRICS) bf_weight_plan_chunk(pb->plan_sa, ci, &first, &n, sc->wsa);
     bf_grid_batch(pb->grid, first, n, &batch);
-    load_measured(pb, &batch, first, sc);
+    sc->first = first;
+    if (wk->route != &bf_route_basis || !bf_basis_in_place(pb, wk->kind))
+        load_measured(pb, &batch, first, sc);
     return wk->route->chunk(pb, wk->kind, wk->params, sc, &batch, &wk->err);
 }
 

@@ -16,7 +16,9 @@
  *           d = M - R, a the solid-angle weight alone
  * The chunks are split into `threads` contiguous blocks, run by the pool's
  * helpers and the calling thread, and the blocks' partial sums are added in
- * block order, so a pass is deterministic for a given thread count.
+ * block order, so a pass is deterministic for a given thread count. The
+ * fused loop's versions (pass_fused.c) sum in lanes of a fixed layout, so
+ * every version gives the same bits too.
  *
  * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
  * for models in basis form (models/basis.h) on grids without missing
@@ -46,6 +48,13 @@ typedef enum bf_pass_kind {
 
 #define BF_MAX_THREADS 64
 
+/* Versions of the fused loop (pass_fused.h): the plain C loop, then the
+ * vector ones for the baseline instruction set, AVX2 and AVX-512. */
+#define BF_ISA_PLAIN 0u
+#define BF_ISA_BASE 1u
+#define BF_ISA_AVX2 2u
+#define BF_ISA_AVX512 3u
+
 struct bf_route;
 
 typedef struct bf_problem {
@@ -67,6 +76,9 @@ typedef struct bf_problem {
     /* set by bf_pass_prepare() */
     const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
     const struct bf_route *route;  /* how chunks are accumulated */
+    unsigned isa;                  /* the fused loop's version (BF_ISA_*): the best the
+                                    * machine runs; a test may lower it */
+    int lobe;                      /* the kernel has the one-lobe form (models/basis.h) */
 } bf_problem;
 
 /* Choose the route of every pass of the problem from the routes' table;

@@ -17,6 +17,7 @@
 
 #include "core/core.h"
 #include "core/linalg.h"
+#include "fit/pass_fused.h"
 #include "fit/pass_route.h"
 #include "models/basis.h"
 
@@ -49,9 +50,15 @@ static int basis_serves(const bf_problem *pb)
     return pb->kernel != NULL && !bf_grid_has_missing(pb->grid);
 }
 
+int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind)
+{
+    return bf_fused_in_place(pb, kind);
+}
+
 static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
 {
     ebasis eb;
+    if (bf_fused_serves(pb, kind)) return bf_fused_acc_size(pb, kind);
     ebasis_of(pb->kernel, &eb);
     switch (kind) {
     case BF_PASS_COST: return 1;
@@ -66,7 +73,7 @@ static size_t basis_scratch_size(const bf_problem *pb)
 {
     /* the basis block, the weighted functions u_a = w E_a (at most
      * L (1 + K) of them) and one residual block */
-    (void)pb;
+    if (bf_fused_serves(pb, BF_PASS_NORMAL)) return 0; /* the fused loop needs none */
     return sizeof(bf_basis) / sizeof(double) +
            (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) + 1) * BF_KERNEL_BLOCK;
 }
@@ -172,6 +179,10 @@ static brdffit_status basis_chunk(const bf_problem *pb, bf_pass_kind kind, const
     size_t n = batch->n, off, count;
     ebasis eb;
     (void)err; /* a kernel never fails */
+    if (bf_fused_serves(pb, kind)) {
+        bf_fused_chunk(pb, kind, params, sc, n);
+        return BRDFFIT_OK;
+    }
     ebasis_of(k, &eb);
     for (off = 0; off < n; off += count) {
         count = n - off < BF_KERNEL_BLOCK ? n - off : BF_KERNEL_BLOCK;
@@ -248,8 +259,13 @@ static void finish_varpro(const bf_problem *pb, const ebasis *eb, const double *
 static void basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
                          const double *basis_acc, double *acc)
 {
+    double reduced[1 + 9 + 3 * 3];
     ebasis eb;
     ebasis_of(pb->kernel, &eb);
+    if (bf_fused_serves(pb, kind)) {
+        bf_fused_reduce(pb, kind, basis_acc, reduced);
+        basis_acc = reduced;
+    }
     if (kind == BF_PASS_NORMAL) finish_normal(pb, params, &eb, basis_acc, acc);
     else if (kind == BF_PASS_VARPRO) finish_varpro(pb, &eb, basis_acc, acc);
     else acc[0] = basis_acc[0];

@@ -18,6 +18,7 @@ typedef struct bf_scratch {
     double *vals;              /* nc * BF_CHUNK */
     double *own;               /* the route's scratch_size() doubles */
     double *acc;               /* the thread's accumulator, acc_size() doubles */
+    size_t first;              /* the chunk's first sample */
 } bf_scratch;
 
 typedef struct bf_route {
@@ -39,6 +40,10 @@ typedef struct bf_route {
 
 extern const bf_route bf_route_generic; /* pass_generic.c */
 extern const bf_route bf_route_basis;   /* pass_basis.c */
+
+/* Whether the driver leaves the chunk's measured values unloaded because
+ * the basis route reads them in place (pass_fused.h). */
+int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind);
 
 /* The passes' dot product is bf_dot() of core/linalg.h. */
 

@@ -16,6 +16,16 @@ int bf_grid_has_missing(const brdffit_grid *g)
     return g->missing != NULL;
 }
 
+const double *bf_grid_values(const brdffit_grid *g, size_t c)
+{
+    return g->values + c * g->n_samples;
+}
+
+const bf_geometry *bf_grid_geometry(const brdffit_grid *g)
+{
+    return &g->geo;
+}
+
 void bf_grid_batch(const brdffit_grid *g, size_t first, size_t count, brdffit_batch *out)
 {
     bf_geometry_batch(&g->geo, first, count, out);
@@ -156,7 +166,7 @@ static void *copy_block(const brdffit_allocator *a, const void *src, size_t byte
 static brdffit_status copy_shape(brdffit_grid *g, const brdffit_grid *src, brdffit_error *err)
 {
     size_t n = src->n_samples;
-    memcpy(g->geo.block, src->geo.block, n * 12 * sizeof(double));
+    memcpy(g->geo.block, src->geo.block, n * BF_GEOMETRY_ARRAYS * sizeof(double));
     if (src->kind == BRDFFIT_GRID_REGULAR) {
         brdffit_axes axes = {src->axis[0],   src->n_axis[0], src->axis[1],
                              src->n_axis[1], src->axis[2],   src->n_axis[2]};

@@ -1,12 +1,11 @@
 /* Derived per-sample geometry (docs/definitions.md, Geometry): light, view and half
  * vectors and the guarded dot products the model kernels stream. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "core/core.h"
 #include "grid/grid_internal.h"
-
-enum { BF_GEOMETRY_ARRAYS = 12 };
 
 int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n)
 {
@@ -29,6 +28,8 @@ int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n)
     g->hv = p + 9 * n;
     g->log_nh = p + 10 * n;
     g->rv = p + 11 * n;
+    g->as_g = p + 12 * n;
+    g->log_rv = p + 13 * n;
     return 1;
 }
 
@@ -78,6 +79,10 @@ void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, dou
     g->hv[s] = clamp_dot(hx * vx + hy * vy + hz * vz);
     g->log_nh[s] = log(g->nh[s]);
     g->rv[s] = clamp_unit(-lx * vx - ly * vy + lz * vz);
+    /* the parameter-independent factors of the fit's fused passes (the
+     * same expressions as the kernels', so the same bits) */
+    g->as_g[s] = 1.0 / (8.0 * BF_PI * g->hv[s] * (g->nl[s] > g->nv[s] ? g->nl[s] : g->nv[s]));
+    g->log_rv[s] = log(fmin(fmax(g->rv[s], DBL_MIN), 1.0));
 }
 
 void bf_geometry_batch(const bf_geometry *g, size_t first, size_t count, brdffit_batch *out)

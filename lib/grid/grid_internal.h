@@ -14,12 +14,20 @@
 #define BF_CHUNK 64
 
 /* Derived per-sample geometry, structure of arrays (one allocation). The
- * fields mirror brdffit_batch. */
+ * first twelve fields mirror brdffit_batch; the last two are the
+ * parameter-independent factors of the fit's fused passes (pass_fused.c):
+ * as_g = 1 / (8 pi h.v max(n.l, n.v)), the Ashikhmin-Shirley lobe's
+ * geometry, and log_rv = ln(min(max(r.v, DBL_MIN), 1)), the Phong lobe's
+ * logarithm. */
 typedef struct bf_geometry {
     double *lx, *ly, *lz, *vx, *vy, *vz;
     double *nl, *nv, *nh, *hv, *log_nh, *rv;
+    double *as_g, *log_rv;
     double *block; /* the single allocation holding all arrays */
 } bf_geometry;
+
+/* Arrays of a bf_geometry, each n doubles. */
+#define BF_GEOMETRY_ARRAYS 14
 
 /* Allocate arrays for n samples; returns 0 on overflow or failure. */
 int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n);
@@ -125,6 +133,13 @@ brdffit_status bf_grid_view_set(brdffit_grid *view, const double *values,
 
 /* Whether any value of the grid is marked missing. */
 int bf_grid_has_missing(const brdffit_grid *g);
+
+/* Channel c's measured values (n_samples doubles, missing ones 0), for
+ * the fused passes that read them in place. */
+const double *bf_grid_values(const brdffit_grid *g, size_t c);
+
+/* The whole geometry of the grid (its arrays start at sample 0). */
+const bf_geometry *bf_grid_geometry(const brdffit_grid *g);
 
 /* The geometry of samples [first, first + count) as a batch. */
 void bf_grid_batch(const brdffit_grid *g, size_t first, size_t count, brdffit_batch *out);

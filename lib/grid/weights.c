@@ -137,20 +137,27 @@ static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_
     return BRDFFIT_OK;
 }
 
+/* The weight of sample (i, j, k) is ((w_ti[i] w_to[j]) w_po[k]) scale; the
+ * chunk is walked one theta_o row segment at a time, so the loop over phi_o
+ * vectorises and no index is carried per sample. */
 static void chunk_regular(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights)
 {
     const brdffit_grid *g = p->grid;
     size_t n_po = g->n_axis[2], row = p->n_to_act * n_po;
     size_t i = index / p->chunks_per_ti, start = index % p->chunks_per_ti * BF_CHUNK;
-    size_t n = row - start < BF_CHUNK ? row - start : BF_CHUNK, t;
+    size_t n = row - start < BF_CHUNK ? row - start : BF_CHUNK, t = 0, q;
     size_t j = start / n_po, k = start % n_po;
-    double wi = p->w_ti[i];
+    const double wi = p->w_ti[i], scale = p->scale;
     *first = i * g->n_axis[1] * n_po + start;
     *count = n;
-    for (t = 0; t < n; t++) {
-        weights[t] = wi * p->w_to[j] * p->w_po[k] * p->scale;
-        if (++k == n_po) k = 0, j++;
+    for (; t < n; j++, k = 0) {
+        const double wij = wi * p->w_to[j];
+        const double *restrict wpo = p->w_po + k;
+        double *restrict out = weights + t;
+        size_t len = n - t < n_po - k ? n - t : n_po - k;
+        for (q = 0; q < len; q++) out[q] = wij * wpo[q] * scale;
+        t += len;
     }
 }
 

@@ -43,6 +43,27 @@ const bf_kernel *bf_model_basis(const brdffit_model *m);
 /* The form of kernel k. */
 void bf_kernel_form(const bf_kernel *k, bf_basis_form *out);
 
+/* The one-lobe form of a kernel, for the fit's fused passes
+ * (fit/pass_fused.c): B_0 = 1/pi and B_1 = k P, dB_1/dtheta_0 = (dk + k x) P
+ * with P = exp(theta_0 x) g, where x and g are per-sample arrays of the
+ * grid's geometry that do not depend on the parameters. */
+typedef enum bf_lobe_x { BF_LOBE_X_LOG_NH, BF_LOBE_X_LOG_RV } bf_lobe_x;
+typedef enum bf_lobe_g {
+    BF_LOBE_G_ONE,         /* g = 1 */
+    BF_LOBE_G_AS,          /* g = 1 / (8 pi h.v max(n.l, n.v)) */
+    BF_LOBE_G_RV_POSITIVE  /* g = 1 where r.v > 0, else 0 */
+} bf_lobe_g;
+typedef struct bf_lobe {
+    bf_lobe_x x;
+    bf_lobe_g g;
+    double k, dk; /* at the shape parameter theta_0 */
+} bf_lobe;
+
+/* Whether kernel k has the one-lobe form (K = 1, L = 2); if so, its
+ * constants at shape parameter theta0 into *out. The fused pass computes
+ * the same expressions as the kernel, so the same basis bits. */
+int bf_kernel_lobe(const bf_kernel *k, double theta0, bf_lobe *out);
+
 /* Fill the basis of samples [first, first + count) of the batch
  * (count <= BF_KERNEL_BLOCK) at the shape parameters `shape` (the first K
  * entries of the parameter vector). */

@@ -86,6 +86,13 @@ void bf_kernel_form(const bf_kernel *k, bf_basis_form *out)
     for (s = 0; s < BF_KERNEL_MAX_SHAPE; s++) out->dep[s] = k->dep[s];
 }
 
+int bf_kernel_lobe(const bf_kernel *k, double theta0, bf_lobe *out)
+{
+    if (k->lobe == NULL) return 0;
+    k->lobe(theta0, out);
+    return 1;
+}
+
 void bf_kernel_basis(const bf_kernel *k, const brdffit_batch *batch, size_t first, size_t count,
                      const double *shape, bf_basis *out)
 {

@@ -54,7 +54,16 @@ static void as_basis(const brdffit_batch *batch, size_t first, size_t count, con
     as_lobe(batch, first, count, shape[0], inv_den, out->b[1], out->db[0][1]);
 }
 
-static const bf_kernel as_kernel = {1, 2, {2u}, as_basis};
+/* The lobe above as the fused pass computes it: k = ns + 1, dk = 1. */
+static void as_lobe_form(double ns, bf_lobe *out)
+{
+    out->x = BF_LOBE_X_LOG_NH;
+    out->g = BF_LOBE_G_AS;
+    out->k = ns + 1.0;
+    out->dk = 1.0;
+}
+
+static const bf_kernel as_kernel = {1, 2, {2u}, as_basis, as_lobe_form};
 
 static brdffit_status as_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                               double *values, double *jacobian, void *user)
@@ -110,7 +119,7 @@ static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, co
 }
 
 /* ns -> cs; Rs -> cd, cs. */
-static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis};
+static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis, NULL};
 
 static brdffit_status asf_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)
@@ -143,7 +152,7 @@ static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, co
 }
 
 /* ns1 -> cs1; ns2 -> cs2. */
-static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis};
+static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis, NULL};
 
 static brdffit_status as2_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)

@@ -27,7 +27,7 @@ static void lambert_basis(const brdffit_batch *batch, size_t first, size_t count
     fill_diffuse(out->b[0], count);
 }
 
-static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis};
+static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis, NULL};
 
 static brdffit_status lambert_eval(const brdffit_batch *batch, const double *params,
                                    size_t n_channels, double *values, double *jacobian, void *user)
@@ -65,7 +65,16 @@ static void phong_basis(const brdffit_batch *batch, size_t first, size_t count, 
     }
 }
 
-static const bf_kernel phong_kernel = {1, 2, {2u}, phong_basis};
+/* The lobe above as the fused pass computes it, from the grid's ln r.v. */
+static void phong_lobe_form(double ns, bf_lobe *out)
+{
+    out->x = BF_LOBE_X_LOG_RV;
+    out->g = BF_LOBE_G_RV_POSITIVE;
+    out->k = (ns + 2.0) / (2.0 * BF_PI);
+    out->dk = 1.0 / (2.0 * BF_PI);
+}
+
+static const bf_kernel phong_kernel = {1, 2, {2u}, phong_basis, phong_lobe_form};
 
 static brdffit_status phong_eval(const brdffit_batch *batch, const double *params,
                                  size_t n_channels, double *values, double *jacobian, void *user)
@@ -101,7 +110,15 @@ static void blinn_basis(const brdffit_batch *batch, size_t first, size_t count, 
     }
 }
 
-static const bf_kernel blinn_kernel = {1, 2, {2u}, blinn_basis};
+static void blinn_lobe_form(double ns, bf_lobe *out)
+{
+    out->x = BF_LOBE_X_LOG_NH;
+    out->g = BF_LOBE_G_ONE;
+    out->k = (ns + 8.0) / (8.0 * BF_PI);
+    out->dk = 1.0 / (8.0 * BF_PI);
+}
+
+static const bf_kernel blinn_kernel = {1, 2, {2u}, blinn_basis, blinn_lobe_form};
 
 static brdffit_status blinn_eval(const brdffit_batch *batch, const double *params,
                                  size_t n_channels, double *values, double *jacobian, void *user)

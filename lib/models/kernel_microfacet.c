@@ -206,11 +206,11 @@ static void ggx2_basis(const brdffit_batch *batch, size_t first, size_t count, c
 }
 
 /* rough -> cs; F0 -> cs. */
-static const bf_kernel ct_kernel = {2, 2, {2u, 2u}, ct_basis};
-static const bf_kernel ggx_kernel = {2, 2, {2u, 2u}, ggx_basis};
+static const bf_kernel ct_kernel = {2, 2, {2u, 2u}, ct_basis, NULL};
+static const bf_kernel ggx_kernel = {2, 2, {2u, 2u}, ggx_basis, NULL};
 /* rough1 -> cs1; rough2 -> cs2; F0 -> cs1, cs2. */
-static const bf_kernel ct2_kernel = {3, 3, {2u, 4u, 6u}, ct2_basis};
-static const bf_kernel ggx2_kernel = {3, 3, {2u, 4u, 6u}, ggx2_basis};
+static const bf_kernel ct2_kernel = {3, 3, {2u, 4u, 6u}, ct2_basis, NULL};
+static const bf_kernel ggx2_kernel = {3, 3, {2u, 4u, 6u}, ggx2_basis, NULL};
 
 static brdffit_status ct_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                               double *values, double *jacobian, void *user)

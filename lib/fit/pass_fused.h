@@ -1,0 +1,51 @@
+/* The fused inner loop of the basis route (pass_fused.c): models of the
+ * one-lobe form (models/basis.h: Ashikhmin-Shirley, Phong, Blinn-Phong)
+ * on 1 or 3 channels, one register-resident sweep per chunk. Not
+ * installed. */
+#ifndef BRDFFIT_FIT_PASS_FUSED_H
+#define BRDFFIT_FIT_PASS_FUSED_H
+
+#include <stddef.h>
+
+#include "fit/pass_route.h"
+
+/* Versions of the fused loop for x86-64 (gcc and clang): AVX-512, AVX2
+ * and the baseline, chosen per problem at run time. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && \
+    !defined(BRDFFIT_NO_CLONES)
+#define BF_FUSED_HAVE_ISA 1
+#else
+#define BF_FUSED_HAVE_ISA 0
+#endif
+
+/* The best version this machine runs (BF_ISA_*). */
+unsigned bf_fused_best_isa(void);
+
+/* Set pb->isa (the best version) and pb->lobe once per problem
+ * (bf_pass_prepare(), after pb->kernel). */
+void bf_fused_prepare(bf_problem *pb);
+
+/* Whether the fused loop accumulates the problem's passes of this kind
+ * (COST, NORMAL, VARPRO of a one-lobe kernel with 1 or 3 channels; the
+ * basis route's own checks, a kernel and no missing values, come first). */
+int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind);
+
+/* Whether the fused loop reads the measured values in place (channel
+ * values, no clear-coat compensation): then the driver loads nothing. */
+int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind);
+
+/* Doubles of the fused loop's per-thread accumulator (lanes of sums). */
+size_t bf_fused_acc_size(const bf_problem *pb, bf_pass_kind kind);
+
+/* Accumulate one chunk (weights in sc->w; measured values in place or in
+ * sc->meas; the chunk starts at sample sc->first). */
+void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
+                    bf_scratch *sc, size_t n);
+
+/* Reduce the summed lanes into the basis route's accumulator layout
+ * (pass_basis.c: NORMAL [cost, G (NE x NE, upper), H (nc x NE)], VARPRO
+ * [G (L x L, upper), b (nc x L), rr (nc)], COST [cost]). */
+void bf_fused_reduce(const bf_problem *pb, bf_pass_kind kind, const double *lanes,
+                     double *basis_acc);
+
+#endif /* BRDFFIT_FIT_PASS_FUSED_H */

@@ -1,0 +1,224 @@
+/* The fused loop of the basis route (lib/fit/pass_fused.c): its versions
+ * (plain C, baseline vectors, AVX2, AVX-512; the ones this CPU runs) give
+ * the same bits, and they agree with the unfused basis route (scratch
+ * arrays and dot products, a different summation order) to rounding, for
+ * every kind of pass it serves, every one-lobe model, values read in place
+ * and loaded (channel mean, clear coat), on grids whose chunks end in a
+ * partial group of lanes. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit/pass.h"
+#include "fit/pass_fused.h"
+#include "grid_fixtures.h"
+#include "test_support.h"
+
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+#define MAX_ACC 256
+
+typedef struct setup {
+    brdffit_grid *grid;
+    brdffit_model *model;
+    bf_weight_plan plan;
+    bf_problem pb;
+    size_t vindex[16];
+    double params[16];
+    double *work;
+} setup;
+
+/* The default axes with fx_value() measurements on nc channels. */
+static brdffit_grid *make_grid(size_t nc)
+{
+    const brdffit_axes *axes = brdffit_axes_default();
+    double *v = fx_values(axes, nc);
+    brdffit_grid *g = NULL;
+    assert_non_null(v);
+    assert_int_equal(brdffit_grid_create_regular(&g, axes, nc, v, NULL, NULL, NULL), BRDFFIT_OK);
+    free(v);
+    return g;
+}
+
+static void setup_init(setup *s, const char *model, size_t nc, bf_source source, double coat,
+                       double cap_deg)
+{
+    bf_problem *pb = &s->pb;
+    size_t k;
+    memset(s, 0, sizeof *s);
+    s->grid = make_grid(3);
+    assert_int_equal(brdffit_model_create(&s->model, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(bf_weight_plan_init(&s->plan, s->grid, cap_deg * DEG2RAD,
+                                         BRDFFIT_WEIGHT_DEFAULT, &s->grid->alloc, NULL),
+                     BRDFFIT_OK);
+    pb->grid = s->grid;
+    pb->model = s->model;
+    pb->plan = &s->plan;
+    pb->plan_sa = &s->plan;
+    pb->nc = nc;
+    pb->source = source;
+    pb->clearcoat = coat;
+    pb->threads = 1;
+    bf_layout_init(&pb->ly, s->model, nc);
+    assert_true(pb->ly.n_vec <= 16);
+    bf_layout_entries(&pb->ly, s->model, s->vindex, NULL);
+    pb->vindex = s->vindex;
+    bf_pass_prepare(pb);
+    assert_true(pb->lobe);
+    /* ns 40 (exp over a wide range), cd and cs per channel */
+    s->params[0] = 40.0;
+    for (k = 1; k < pb->ly.n_vec; k++) s->params[k] = 0.05 + 0.1 * (double)k;
+    /* room for the unfused route too (its scratch is larger) */
+    pb->lobe = 0;
+    s->work = calloc(bf_pass_work_size(pb), sizeof(double));
+    assert_non_null(s->work);
+    pb->work = s->work;
+    pb->lobe = 1;
+}
+
+static void setup_free(setup *s)
+{
+    free(s->work);
+    bf_weight_plan_free(&s->plan, &s->grid->alloc);
+    brdffit_model_destroy(s->model);
+    brdffit_grid_destroy(s->grid);
+}
+
+static void run(setup *s, bf_pass_kind kind, double *acc)
+{
+    brdffit_error err;
+    memset(acc, 0, MAX_ACC * sizeof *acc);
+    assert_true(bf_pass_acc_size(&s->pb, kind) <= MAX_ACC);
+    assert_int_equal(bf_pass(&s->pb, kind, s->params, acc, &err), BRDFFIT_OK);
+}
+
+static const char *isa_name(unsigned isa)
+{
+    static const char *const names[] = {"plain C", "baseline", "AVX2", "AVX-512"};
+    return names[isa];
+}
+
+/* Every version this CPU runs against the plain C one, bit for bit, and
+ * the plain one against the unfused route to 1e-12 of the largest entry. */
+static void check_case(const char *model, size_t nc, bf_source source, double coat, double cap)
+{
+    static const bf_pass_kind kinds[] = {BF_PASS_COST, BF_PASS_NORMAL, BF_PASS_VARPRO};
+    double ref[MAX_ACC], plain[MAX_ACC], acc[MAX_ACC];
+    setup s;
+    size_t k, i, n;
+    unsigned isa, best;
+    setup_init(&s, model, nc, source, coat, cap);
+    best = s.pb.isa;
+    for (k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        double top = 0.0;
+        n = bf_pass_acc_size(&s.pb, kinds[k]);
+        s.pb.lobe = 0;
+        run(&s, kinds[k], ref);
+        s.pb.lobe = 1;
+        s.pb.isa = BF_ISA_PLAIN;
+        run(&s, kinds[k], plain);
+        for (i = 0; i < n; i++) top = fmax(top, fabs(ref[i]));
+        assert_true(top > 0.0);
+        for (i = 0; i < n; i++)
+            if (!(fabs(plain[i] - ref[i]) <= 1e-12 * top)) {
+                printf("%s kind %d entry %zu: fused %.17g unfused %.17g\n", model, (int)kinds[k],
+                       i, plain[i], ref[i]);
+                fail();
+            }
+        for (isa = BF_ISA_BASE; isa <= best; isa++) {
+            s.pb.isa = isa;
+            run(&s, kinds[k], acc);
+            if (memcmp(acc, plain, n * sizeof *acc) != 0) {
+                printf("%s kind %d: the %s version differs from the plain C one\n", model,
+                       (int)kinds[k], isa_name(isa));
+                fail();
+            }
+        }
+        s.pb.isa = best;
+    }
+    setup_free(&s);
+}
+
+static void test_versions_this_cpu_runs(void **state)
+{
+    unsigned best = bf_fused_best_isa();
+    (void)state;
+    printf("fused loop versions checked: plain C");
+    if (best >= BF_ISA_BASE) printf(", baseline");
+    if (best >= BF_ISA_AVX2) printf(", AVX2");
+    if (best >= BF_ISA_AVX512) printf(", AVX-512");
+    printf("\n");
+    if (best < BF_ISA_AVX512)
+        printf("not checked: the AVX-512 version (this CPU or build does not run it)\n");
+    if (best < BF_ISA_AVX2)
+        printf("not checked: the AVX2 version (this CPU or build does not run it)\n");
+    assert_true(best <= BF_ISA_AVX512);
+}
+
+static void test_ashikhmin_shirley(void **state)
+{
+    (void)state;
+    check_case("ashikhmin-shirley", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("ashikhmin-shirley", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+}
+
+static void test_phong_and_blinn(void **state)
+{
+    (void)state;
+    check_case("phong", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("blinn-phong", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+}
+
+/* Values loaded by the driver instead of read in place. */
+static void test_loaded_values(void **state)
+{
+    (void)state;
+    check_case("ashikhmin-shirley", 1, BF_SOURCE_MEAN, 0.0, 75.0);
+    check_case("ashikhmin-shirley", 3, BF_SOURCE_CHANNELS, 0.04, 90.0);
+    check_case("phong", 1, BF_SOURCE_MEAN, 0.0, 90.0);
+}
+
+/* The route serves only what it can: other models, METRICS and other
+ * channel counts go elsewhere. */
+static void test_what_it_serves(void **state)
+{
+    setup s;
+    (void)state;
+    setup_init(&s, "ashikhmin-shirley", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_true(bf_fused_serves(&s.pb, BF_PASS_NORMAL));
+    assert_true(bf_fused_in_place(&s.pb, BF_PASS_NORMAL));
+    assert_false(bf_fused_serves(&s.pb, BF_PASS_METRICS));
+    s.pb.nc = 2;
+    assert_false(bf_fused_serves(&s.pb, BF_PASS_NORMAL));
+    s.pb.nc = 3;
+    s.pb.clearcoat = 0.04;
+    assert_false(bf_fused_in_place(&s.pb, BF_PASS_NORMAL));
+    {
+        brdffit_model *m = NULL;
+        bf_problem pb;
+        memset(&pb, 0, sizeof pb);
+        assert_int_equal(brdffit_model_create(&m, "ashikhmin-shirley-fresnel", NULL, NULL),
+                         BRDFFIT_OK);
+        pb.model = m;
+        pb.grid = s.grid;
+        pb.objective = BRDFFIT_OBJECTIVE_SQUARES;
+        pb.nc = 3;
+        pb.threads = 1;
+        bf_pass_prepare(&pb);
+        assert_false(pb.lobe);
+        brdffit_model_destroy(m);
+    }
+    setup_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_versions_this_cpu_runs),
+        cmocka_unit_test(test_ashikhmin_shirley),
+        cmocka_unit_test(test_phong_and_blinn),
+        cmocka_unit_test(test_loaded_values),
+        cmocka_unit_test(test_what_it_serves),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
