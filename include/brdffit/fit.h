@@ -34,7 +34,9 @@
  *
  * A fit handle is not thread-safe: use each from one thread at a time
  * (brdffit_fit_cancel() excepted). Different fits may run in parallel, also
- * on the same grid and model.
+ * on the same grid and model. The setters and brdffit_fit_run() called
+ * during a run (from the fit's iteration callback or a user model) refuse
+ * with ::BRDFFIT_E_INVALID_ARGUMENT and change nothing.
  */
 #ifndef BRDFFIT_FIT_H
 #define BRDFFIT_FIT_H

@@ -116,6 +116,17 @@ const char *brdffit_fit_message(const brdffit_fit *fit)
         (fit)->message[0] = '\0';                                        \
     } while (0)
 
+/* For calls that change the fit: not from inside its own run (its
+ * callbacks, a user model), where the run would mix old and new settings. */
+static brdffit_status check_mutable(brdffit_fit *fit, const char *what)
+{
+    BF_CHECK_FIT(fit);
+    if (fit->running)
+        return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
+                      "%s: the fit cannot be changed while it runs", what);
+    return BRDFFIT_OK;
+}
+
 static int is_whole(double v, double lo, double hi)
 {
     return v >= lo && v <= hi && v == floor(v);
@@ -123,7 +134,7 @@ static int is_whole(double v, double lo, double hi)
 
 brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, double value)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set"));
     switch (setting) {
     case BRDFFIT_FIT_PIPELINE:
         if (!is_whole(value, 0, 2)) break;
@@ -179,7 +190,7 @@ brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setti
 
 brdffit_status brdffit_fit_set_damping(brdffit_fit *fit, const brdffit_damping *policy)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_damping"));
     if (policy == NULL) policy = brdffit_damping_nielsen();
     /* Any size from the first version's up (a newer header's larger struct
      * included); fields the caller's size lacks keep the built-in's. */
@@ -197,7 +208,7 @@ brdffit_status brdffit_fit_set_damping(brdffit_fit *fit, const brdffit_damping *
 brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
 {
     size_t k, c;
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_start"));
     if (params == NULL) {
         brdffit_model_default_params(fit->model, fit->nc, fit->start);
         return BRDFFIT_OK;
@@ -221,7 +232,7 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
 
 brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_fixed"));
     if (param >= brdffit_model_param_count(fit->model))
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "parameter index out of range");
     fit->fixed[param] = fixed != 0;
@@ -230,7 +241,7 @@ brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed)
 
 brdffit_status brdffit_fit_set_callback(brdffit_fit *fit, brdffit_iteration_fn fn, void *user)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_callback"));
     fit->callback = fn;
     fit->callback_user = user;
     return BRDFFIT_OK;
@@ -253,7 +264,7 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
 {
     bf_result r;
     brdffit_status status;
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_run"));
     if (!bf_grid_ok(fit->grid) || !bf_model_ok(fit->model)) {
         atomic_store(&fit->cancel, 0);
         return fit_fail(fit, BRDFFIT_E_BAD_HANDLE, "grid or model was destroyed");
@@ -264,7 +275,11 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
     r.std_errors = fit->result.std_errors;
     r.metrics = fit->result.metrics;
     r.message = fit->message;
+    fit->running = 1;
     status = bf_run_fit(fit, &r);
+    fit->running = 0;
+    /* a call refused during the run may have left its message */
+    if (status == BRDFFIT_OK) fit->message[0] = '\0';
     keep_result(fit, &r, status);
     atomic_store(&fit->cancel, 0);
     return status;
