@@ -11,6 +11,20 @@
 static const bf_pipeline_fn pipelines[] = {bf_pipeline_auto, bf_pipeline_joint,
                                            bf_pipeline_two_stage};
 
+/* The solid-angle plan of the error figure E and of the log and cube-root
+ * objectives. Cells without solid angle (one theta_o or one phi_o inside
+ * the cap) are no reason to refuse a fit whose own weights do not use it:
+ * the samples then count alike. */
+static brdffit_status make_plan_sa(bf_run *run, brdffit_error *err)
+{
+    const brdffit_fit *fit = run->fit;
+    brdffit_status status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap,
+                                                BRDFFIT_WEIGHT_SOLID_ANGLE, &fit->alloc, err);
+    if (status == BRDFFIT_E_NO_DATA && !(fit->weighting & BRDFFIT_WEIGHT_SOLID_ANGLE))
+        status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap, 0, &fit->alloc, err);
+    return status;
+}
+
 static brdffit_status make_plans(bf_run *run)
 {
     const brdffit_fit *fit = run->fit;
@@ -18,8 +32,7 @@ static brdffit_status make_plans(bf_run *run)
     brdffit_status status =
         bf_weight_plan_init(&run->plan, fit->grid, fit->cap, fit->weighting, &fit->alloc, &err);
     if (status == BRDFFIT_OK) {
-        status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap,
-                                     BRDFFIT_WEIGHT_SOLID_ANGLE, &fit->alloc, &err);
+        status = make_plan_sa(run, &err);
         if (status != BRDFFIT_OK) bf_weight_plan_free(&run->plan, &fit->alloc);
     }
     if (status != BRDFFIT_OK)
