@@ -811,6 +811,81 @@ static void test_64_channels(void **state)
     check_channels("ggx", 0.2, 64);
 }
 
+/* ---- channel limits ------------------------------------------------------------ */
+
+/* An allocator that refuses any request above 64 MB and records the
+ * largest one. */
+typedef struct capped_alloc {
+    size_t largest;
+} capped_alloc;
+
+static void *capped_alloc_fn(size_t size, void *ctx)
+{
+    capped_alloc *ca = ctx;
+    if (size > ca->largest) ca->largest = size;
+    return size > ((size_t)64 << 20) ? NULL : malloc(size);
+}
+
+static void capped_free_fn(void *ptr, void *ctx)
+{
+    (void)ctx;
+    free(ptr);
+}
+
+static int capped_run(const brdffit_grid *grid, const brdffit_model *model, int pipeline,
+                      capped_alloc *ca, char *message, size_t size)
+{
+    brdffit_allocator a = {capped_alloc_fn, capped_free_fn, NULL};
+    brdffit_fit *fit = NULL;
+    brdffit_status st;
+    a.ctx = ca;
+    ca->largest = 0;
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, &a, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, pipeline), BRDFFIT_OK);
+    st = brdffit_fit_run(fit);
+    snprintf(message, size, "%s", brdffit_fit_message(fit));
+    brdffit_fit_destroy(fit);
+    return (int)st;
+}
+
+/* The joint and auto pipelines fit every channel's parameters at once and
+ * refuse more than BRDFFIT_FIT_MAX_PARAMS of them with BRDFFIT_E_TOO_LARGE,
+ * naming the limit, before allocating anything of that size (2048 and
+ * 300000 channels of Ashikhmin-Shirley: 4097 and 600001 parameters); the
+ * two-stage pipeline fits each channel alone and fits them all. */
+static void test_channel_limit(void **state)
+{
+    static const double two[] = {0, 30}, po[] = {0, 90};
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    const size_t counts[] = {2048, 300000};
+    capped_alloc ca;
+    fx_axes a;
+    size_t i;
+    (void)state;
+    fx_axes_set(&a, two, 2, two, 2, po, 2);
+    for (i = 0; i < 2; i++) {
+        brdffit_grid *grid = constant_grid(&a.axes, counts[i], 0.1);
+        char message[512];
+        int p;
+        for (p = 0; p < 2; p++) {
+            int st = capped_run(grid, model, PIPELINES[p], &ca, message, sizeof message);
+            if (st != BRDFFIT_E_TOO_LARGE) print_error("%zu channels: %s\n", counts[i], message);
+            assert_int_equal(st, BRDFFIT_E_TOO_LARGE);
+            assert_non_null(strstr(message, "4096"));
+            assert_non_null(strstr(message, "two-stage"));
+            assert_true(ca.largest <= ((size_t)64 << 20)); /* none refused */
+        }
+        if (i == 0) {
+            int st = capped_run(grid, model, BRDFFIT_PIPELINE_TWO_STAGE, &ca, message,
+                                sizeof message);
+            if (st != BRDFFIT_OK) print_error("two-stage: %s\n", message);
+            assert_int_equal(st, BRDFFIT_OK);
+        }
+        brdffit_grid_destroy(grid);
+    }
+    brdffit_model_destroy(model);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -828,6 +903,7 @@ int main(void)
         cmocka_unit_test(test_cancel_at_range_end),
         cmocka_unit_test(test_one_channel),
         cmocka_unit_test(test_64_channels),
+        cmocka_unit_test(test_channel_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -56,6 +56,17 @@
 /** @brief Opaque fit. */
 typedef struct brdffit_fit brdffit_fit;
 
+/**
+ * @brief The most parameters the auto and joint pipelines fit at once (the
+ *        optimizer's limit): every channel's colours and the shared shape,
+ *        brdffit_model_vector_size() for the grid's channels. Beyond it
+ *        brdffit_fit_run() refuses with ::BRDFFIT_E_TOO_LARGE before
+ *        allocating anything of that size (Ashikhmin-Shirley: 2048
+ *        channels or more); the two-stage pipeline fits each channel alone
+ *        and has no such limit.
+ */
+#define BRDFFIT_FIT_MAX_PARAMS 4096
+
 /** @brief Fit pipelines. Values are fixed forever. */
 typedef enum brdffit_pipeline {
     BRDFFIT_PIPELINE_AUTO = 0,      /**< Global search with linear colours, then LM polish. */
@@ -223,7 +234,10 @@ BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
  *         lies outside [1e-100, 1e100] (its square would under- or
  *         overflow: rescale the data);
  *         ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE when the model or
- *         the data give NaN or Inf at the start; ::BRDFFIT_E_OUT_OF_MEMORY;
+ *         the data give NaN or Inf at the start; ::BRDFFIT_E_TOO_LARGE when
+ *         the auto or joint pipeline would fit more than
+ *         ::BRDFFIT_FIT_MAX_PARAMS parameters at once;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY;
  *         ::BRDFFIT_E_BAD_HANDLE. brdffit_fit_message() says more.
  */
 BRDFFIT_API brdffit_status brdffit_fit_run(brdffit_fit *fit);

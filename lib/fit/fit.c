@@ -270,6 +270,15 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
         return fit_fail(fit, BRDFFIT_E_BAD_HANDLE, "grid or model was destroyed");
     }
     fit->has_result = 0;
+    if (fit->pipeline != BRDFFIT_PIPELINE_TWO_STAGE && fit->n_vec > BRDFFIT_FIT_MAX_PARAMS) {
+        atomic_store(&fit->cancel, 0);
+        return bf_say(fit->message, BRDFFIT_E_TOO_LARGE,
+                      "the %s pipeline fits every channel at once: model '%s' has %zu parameters "
+                      "for %zu channels, more than its limit of %d (BRDFFIT_FIT_MAX_PARAMS); the "
+                      "two-stage pipeline fits each channel alone",
+                      fit->pipeline == BRDFFIT_PIPELINE_AUTO ? "auto" : "joint",
+                      brdffit_model_name(fit->model), fit->n_vec, fit->nc, BRDFFIT_FIT_MAX_PARAMS);
+    }
     memset(&r, 0, sizeof r);
     r.params = fit->result.params;
     r.std_errors = fit->result.std_errors;

@@ -96,6 +96,12 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
     fill_problem(st, nc, source, source_channel);
     n = st->pb.ly.n_vec;
     st->n = n;
+    /* brdffit_fit_run() keeps larger problems from the pipelines that fit
+     * all channels at once; the accumulators below grow with n^2 */
+    if (n > BRDFFIT_FIT_MAX_PARAMS)
+        return bf_say(run->result->message, BRDFFIT_E_TOO_LARGE,
+                      "%zu parameters at once, more than the limit of %d", n,
+                      BRDFFIT_FIT_MAX_PARAMS);
     n_acc = bf_pass_acc_size(&st->pb, BF_PASS_NORMAL);
     if (bf_pass_acc_size(&st->pb, BF_PASS_VARPRO) > n_acc)
         n_acc = bf_pass_acc_size(&st->pb, BF_PASS_VARPRO);
