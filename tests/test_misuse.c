@@ -1266,6 +1266,95 @@ static void test_fit_changes_during_run(void **state)
     brdffit_grid_destroy(g);
 }
 
+/* NaN from a user model: the fit's message names the model, the sample,
+ * the channel (the channel mean in the two-stage pipeline's first stage)
+ * and, for a derivative, the parameter. */
+static brdffit_status nan_derivative_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                          double *values, double *jac, void *user)
+{
+    size_t i;
+    (void)p;
+    (void)user;
+    for (i = 0; i < nc * b->n; i++) values[i] = 0.1;
+    if (jac != NULL)
+        for (i = 0; i < 2 * nc * b->n; i++) jac[i] = i == 5 ? NAN : 0.01;
+    return BRDFFIT_OK;
+}
+
+/* Finite values whose squares overflow. */
+static brdffit_status huge_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                double *values, double *jac, void *user)
+{
+    size_t i;
+    (void)p;
+    (void)user;
+    for (i = 0; i < nc * b->n; i++) values[i] = i == 7 ? 1e200 : 0.1;
+    if (jac != NULL)
+        for (i = 0; i < 2 * nc * b->n; i++) jac[i] = 0.01;
+    return BRDFFIT_OK;
+}
+
+static void test_fit_nonfinite_messages(void **state)
+{
+    static const char *const where[3] = {"sample 3, channel 0", "sample 3, channel 0",
+                                         "sample 3 of the channel mean"};
+    brdffit_grid *g = small_grid(3, NULL);
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *m = NULL;
+    brdffit_fit *fit = NULL;
+    size_t pl;
+    (void)state;
+    def.name = "nan";
+    def.n_params = 2;
+    def.params = GOOD_PARAMS;
+    def.eval = nan_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 0; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, where[pl]) == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "\"nan\""));
+        assert_non_null(strstr(msg, where[pl]));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    def.name = "nan-derivative";
+    def.eval = nan_derivative_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 0; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, "\"k\"") == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "derivative"));
+        assert_non_null(strstr(msg, "\"k\""));
+        assert_non_null(strstr(msg, "sample 5"));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    def.name = "huge";
+    def.eval = huge_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 1; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, "sample 7") == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "overflows when squared"));
+        assert_non_null(strstr(msg, "sample 7"));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    brdffit_grid_destroy(g);
+}
+
 /* A destroyed fit, and a live fit whose grid or model was destroyed. */
 static void test_fit_destroyed_handles(void **state)
 {
@@ -1553,6 +1642,7 @@ int main(void)
         cmocka_unit_test(test_fit_start_infinite),
         cmocka_unit_test(test_fit_callback_failures),
         cmocka_unit_test(test_fit_changes_during_run),
+        cmocka_unit_test(test_fit_nonfinite_messages),
         cmocka_unit_test(test_fit_destroyed_handles),
         cmocka_unit_test(test_image_options_misuse),
         cmocka_unit_test(test_image_functions_misuse),
