@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "optim/watch.h"
 
 static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t n_acc,
                                   size_t n_work)
@@ -266,6 +267,9 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     st->status = BRDFFIT_OK;
     status = brdffit_optimizer_create(&st->opt, st->n, &fit->alloc, NULL);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "creating the optimizer");
+    /* the fit's cancel stops the optimizer inside a step's solve and the
+     * standard errors too */
+    bf_optim_watch(st->opt, &fit->cancel);
     bf_count_rows(&st->pb, &rows, NULL);
     if (rows == 0) return no_rows(st);
     status = configure(st, rows);
@@ -274,5 +278,6 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
     collect(st, st->x, params, se);
+    if (atomic_load(&fit->cancel)) st->run->cancelled = 1;
     return BRDFFIT_OK;
 }
