@@ -219,7 +219,9 @@ BRDFFIT_API brdffit_status brdffit_fit_set_callback(brdffit_fit *fit, brdffit_it
 /**
  * @brief Ask a running fit to stop. Any thread may call this at any time;
  *        the fit stops within one iteration (or one scan step) with
- *        ::BRDFFIT_STOP_CANCELLED. The request is consumed when the run ends.
+ *        ::BRDFFIT_STOP_CANCELLED, also from inside a step's linear solve
+ *        or the standard errors (which may then be 0). The request is
+ *        consumed when the run ends.
  */
 BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
 
