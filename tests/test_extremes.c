@@ -478,8 +478,8 @@ static void test_all_samples_beyond_cap(void **state)
 
 /* A cap of 0 keeps only samples with theta_i = theta_o = 0, whose view
  * cells have no solid angle: BRDFFIT_E_NO_DATA with a message in every
- * pipeline and with every weighting (the fit's Ngan figure needs the
- * solid angle even when the residual weights do not use it). */
+ * pipeline when the weights use the solid angle; without it those samples
+ * are fitted (the Ngan figure then weighs them alike). */
 static void test_cap_zero(void **state)
 {
     brdffit_grid *grid = as_grid(1.0);
@@ -495,11 +495,67 @@ static void test_cap_zero(void **state)
             fit_once(grid, model, &o, &out);
             describe(what, &out);
             check_outcome(&out, model, what);
+            if (!(w & BRDFFIT_WEIGHT_SOLID_ANGLE)) {
+                /* only the samples at theta_i = theta_o = 0: fitted */
+                assert_int_equal(out.status, BRDFFIT_OK);
+                continue;
+            }
             assert_int_equal(out.status, BRDFFIT_E_NO_DATA);
             assert_non_null(strstr(out.message, "solid angle"));
         }
     brdffit_model_destroy(model);
     brdffit_grid_destroy(grid);
+}
+
+/* Grids with one value on a view axis (in-plane data: one phi_o; or a
+ * single theta_o) have cells without solid angle. With the solid-angle
+ * weighting off they are fitted (the error figure E then weights the
+ * samples alike) and exact data are recovered by the auto pipeline; with
+ * it on the fit says the cells have no solid angle. */
+static void in_plane_case(const brdffit_axes *axes, const char *name)
+{
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    double truth[7];
+    brdffit_grid *grid;
+    size_t p, w, i;
+    fx_vector(model, 3, AS_TRUTH, truth);
+    grid = fx_grid_from_model(model, truth, 3, axes, 0.0, 1);
+    assert_non_null(grid);
+    for (w = 0; w < 4; w++)
+        for (p = 0; p < 3; p++) {
+            options o = {PIPELINES[p], -1.0, (int)w, NULL};
+            outcome out;
+            char what[96];
+            snprintf(what, sizeof what, "%s, weighting %zu, pipeline %d", name, w, PIPELINES[p]);
+            fit_once(grid, model, &o, &out);
+            describe(what, &out);
+            check_outcome(&out, model, what);
+            if (w & BRDFFIT_WEIGHT_SOLID_ANGLE) {
+                assert_int_equal(out.status, BRDFFIT_E_NO_DATA);
+                assert_non_null(strstr(out.message, "solid angle"));
+                continue;
+            }
+            if (out.status != BRDFFIT_OK) print_error("%s: %s\n", what, out.message);
+            assert_int_equal(out.status, BRDFFIT_OK);
+            assert_true(isfinite(out.ngan) && out.ngan >= 0.0);
+            if (PIPELINES[p] != BRDFFIT_PIPELINE_AUTO) continue;
+            for (i = 0; i < 7; i++)
+                assert_true(fabs(out.params[i] - truth[i]) <= 1e-4 * truth[i]);
+            assert_true(out.ngan < 1e-6);
+        }
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
+static void test_in_plane_and_single_theta_o(void **state)
+{
+    static const double one_phi[] = {0}, one_to[] = {40};
+    fx_axes a;
+    (void)state;
+    fx_axes_set(&a, TI_DEG, 6, TO_DEG, 16, one_phi, 1);
+    in_plane_case(&a.axes, "one phi_o");
+    fx_axes_set(&a, TI_DEG, 6, one_to, 1, PO_DEG, 10);
+    in_plane_case(&a.axes, "one theta_o");
 }
 
 /* A cap of 90 degrees takes in the grazing samples, where the clamped dot
@@ -755,6 +811,81 @@ static void test_64_channels(void **state)
     check_channels("ggx", 0.2, 64);
 }
 
+/* ---- channel limits ------------------------------------------------------------ */
+
+/* An allocator that refuses any request above 64 MB and records the
+ * largest one. */
+typedef struct capped_alloc {
+    size_t largest;
+} capped_alloc;
+
+static void *capped_alloc_fn(size_t size, void *ctx)
+{
+    capped_alloc *ca = ctx;
+    if (size > ca->largest) ca->largest = size;
+    return size > ((size_t)64 << 20) ? NULL : malloc(size);
+}
+
+static void capped_free_fn(void *ptr, void *ctx)
+{
+    (void)ctx;
+    free(ptr);
+}
+
+static int capped_run(const brdffit_grid *grid, const brdffit_model *model, int pipeline,
+                      capped_alloc *ca, char *message, size_t size)
+{
+    brdffit_allocator a = {capped_alloc_fn, capped_free_fn, NULL};
+    brdffit_fit *fit = NULL;
+    brdffit_status st;
+    a.ctx = ca;
+    ca->largest = 0;
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, &a, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, pipeline), BRDFFIT_OK);
+    st = brdffit_fit_run(fit);
+    snprintf(message, size, "%s", brdffit_fit_message(fit));
+    brdffit_fit_destroy(fit);
+    return (int)st;
+}
+
+/* The joint and auto pipelines fit every channel's parameters at once and
+ * refuse more than BRDFFIT_FIT_MAX_PARAMS of them with BRDFFIT_E_TOO_LARGE,
+ * naming the limit, before allocating anything of that size (2048 and
+ * 300000 channels of Ashikhmin-Shirley: 4097 and 600001 parameters); the
+ * two-stage pipeline fits each channel alone and fits them all. */
+static void test_channel_limit(void **state)
+{
+    static const double two[] = {0, 30}, po[] = {0, 90};
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    const size_t counts[] = {2048, 300000};
+    capped_alloc ca;
+    fx_axes a;
+    size_t i;
+    (void)state;
+    fx_axes_set(&a, two, 2, two, 2, po, 2);
+    for (i = 0; i < 2; i++) {
+        brdffit_grid *grid = constant_grid(&a.axes, counts[i], 0.1);
+        char message[512];
+        int p;
+        for (p = 0; p < 2; p++) {
+            int st = capped_run(grid, model, PIPELINES[p], &ca, message, sizeof message);
+            if (st != BRDFFIT_E_TOO_LARGE) print_error("%zu channels: %s\n", counts[i], message);
+            assert_int_equal(st, BRDFFIT_E_TOO_LARGE);
+            assert_non_null(strstr(message, "4096"));
+            assert_non_null(strstr(message, "two-stage"));
+            assert_true(ca.largest <= ((size_t)64 << 20)); /* none refused */
+        }
+        if (i == 0) {
+            int st = capped_run(grid, model, BRDFFIT_PIPELINE_TWO_STAGE, &ca, message,
+                                sizeof message);
+            if (st != BRDFFIT_OK) print_error("two-stage: %s\n", message);
+            assert_int_equal(st, BRDFFIT_OK);
+        }
+        brdffit_grid_destroy(grid);
+    }
+    brdffit_model_destroy(model);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -766,11 +897,13 @@ int main(void)
         cmocka_unit_test(test_huge_values),
         cmocka_unit_test(test_all_samples_beyond_cap),
         cmocka_unit_test(test_cap_zero),
+        cmocka_unit_test(test_in_plane_and_single_theta_o),
         cmocka_unit_test(test_cap_90),
         cmocka_unit_test(test_parameter_extremes),
         cmocka_unit_test(test_cancel_at_range_end),
         cmocka_unit_test(test_one_channel),
         cmocka_unit_test(test_64_channels),
+        cmocka_unit_test(test_channel_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1192,6 +1192,169 @@ static void test_fit_callback_failures(void **state)
     brdffit_grid_destroy(g);
 }
 
+/* Calls that change a fit, made from its own iteration callback (setters
+ * and a nested run): every one is refused with BRDFFIT_E_INVALID_ARGUMENT
+ * and a message, nothing changes, and the run goes on to its normal end
+ * with the settings it started with. */
+enum { N_DURING = 8 };
+typedef struct during_run {
+    brdffit_fit *fit;
+    int calls;
+    brdffit_status status[N_DURING];
+    int named[N_DURING]; /* the message says the fit is running */
+} during_run;
+
+static int change_from_callback(const brdffit_iteration *it, void *user)
+{
+    during_run *d = user;
+    brdffit_fit *fit = d->fit;
+    double start[7] = {100, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1};
+    size_t i;
+    (void)it;
+    if (d->calls++ > 0) return 0;
+    for (i = 0; i < N_DURING; i++) {
+        switch (i) {
+        case 0: d->status[i] = brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, 0.04); break;
+        case 1: d->status[i] = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, 1.0); break;
+        case 2: d->status[i] = brdffit_fit_set_start(fit, start); break;
+        case 3: d->status[i] = brdffit_fit_set_fixed(fit, 0, 1); break;
+        case 4: d->status[i] = brdffit_fit_set_damping(fit, NULL); break;
+        case 5: d->status[i] = brdffit_fit_set_callback(fit, NULL, NULL); break;
+        case 6: d->status[i] = brdffit_fit_run(fit); break;
+        default: d->status[i] = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, 1.0); break;
+        }
+        d->named[i] = strstr(brdffit_fit_message(fit), "while it runs") != NULL;
+    }
+    return 0;
+}
+
+static void test_fit_changes_during_run(void **state)
+{
+    brdffit_grid *g = small_grid(3, NULL);
+    brdffit_model *as = model_of("ashikhmin-shirley", NULL);
+    brdffit_fit *fit = NULL;
+    double v, p[7];
+    size_t pl, i;
+    (void)state;
+    assert_int_equal(brdffit_fit_create(&fit, g, as, NULL, NULL), BRDFFIT_OK);
+    for (pl = 0; pl < 3; pl++) {
+        during_run d;
+        memset(&d, 0, sizeof d);
+        d.fit = fit;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_set_callback(fit, change_from_callback, &d), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+        assert_string_equal(brdffit_fit_message(fit), "");
+        assert_true(d.calls > 1); /* the callback stayed */
+        for (i = 0; i < N_DURING; i++) {
+            if (d.status[i] != BRDFFIT_E_INVALID_ARGUMENT || !d.named[i])
+                print_error("pipeline %zu, call %zu: %s\n", pl, i,
+                            brdffit_status_name(d.status[i]));
+            assert_int_equal(d.status[i], BRDFFIT_E_INVALID_ARGUMENT);
+            assert_true(d.named[i]);
+        }
+        assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_CLEARCOAT, &v), BRDFFIT_OK);
+        assert_true(v == 0.0);
+        assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_PIPELINE, &v), BRDFFIT_OK);
+        assert_true(v == (double)pl);
+        assert_int_equal(brdffit_fit_params(fit, p), BRDFFIT_OK);
+        /* after the run every call works again */
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, 0.0), BRDFFIT_OK);
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(as);
+    brdffit_grid_destroy(g);
+}
+
+/* NaN from a user model: the fit's message names the model, the sample,
+ * the channel (the channel mean in the two-stage pipeline's first stage)
+ * and, for a derivative, the parameter. */
+static brdffit_status nan_derivative_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                          double *values, double *jac, void *user)
+{
+    size_t i;
+    (void)p;
+    (void)user;
+    for (i = 0; i < nc * b->n; i++) values[i] = 0.1;
+    if (jac != NULL)
+        for (i = 0; i < 2 * nc * b->n; i++) jac[i] = i == 5 ? NAN : 0.01;
+    return BRDFFIT_OK;
+}
+
+/* Finite values whose squares overflow. */
+static brdffit_status huge_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                double *values, double *jac, void *user)
+{
+    size_t i;
+    (void)p;
+    (void)user;
+    for (i = 0; i < nc * b->n; i++) values[i] = i == 7 ? 1e200 : 0.1;
+    if (jac != NULL)
+        for (i = 0; i < 2 * nc * b->n; i++) jac[i] = 0.01;
+    return BRDFFIT_OK;
+}
+
+static void test_fit_nonfinite_messages(void **state)
+{
+    static const char *const where[3] = {"sample 3, channel 0", "sample 3, channel 0",
+                                         "sample 3 of the channel mean"};
+    brdffit_grid *g = small_grid(3, NULL);
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *m = NULL;
+    brdffit_fit *fit = NULL;
+    size_t pl;
+    (void)state;
+    def.name = "nan";
+    def.n_params = 2;
+    def.params = GOOD_PARAMS;
+    def.eval = nan_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 0; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, where[pl]) == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "\"nan\""));
+        assert_non_null(strstr(msg, where[pl]));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    def.name = "nan-derivative";
+    def.eval = nan_derivative_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 0; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, "\"k\"") == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "derivative"));
+        assert_non_null(strstr(msg, "\"k\""));
+        assert_non_null(strstr(msg, "sample 5"));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    def.name = "huge";
+    def.eval = huge_eval;
+    assert_int_equal(brdffit_model_create_custom(&m, &def, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, g, m, NULL, NULL), BRDFFIT_OK);
+    for (pl = 1; pl < 3; pl++) {
+        const char *msg;
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pl), BRDFFIT_OK);
+        EXPECT_FIT(BRDFFIT_E_NONFINITE, fit, brdffit_fit_run(fit));
+        msg = brdffit_fit_message(fit);
+        if (strstr(msg, "sample 7") == NULL) print_error("pipeline %zu: %s\n", pl, msg);
+        assert_non_null(strstr(msg, "overflows when squared"));
+        assert_non_null(strstr(msg, "sample 7"));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(m);
+    brdffit_grid_destroy(g);
+}
+
 /* A destroyed fit, and a live fit whose grid or model was destroyed. */
 static void test_fit_destroyed_handles(void **state)
 {
@@ -1485,6 +1648,8 @@ int main(void)
         cmocka_unit_test(test_fit_misuse),
         cmocka_unit_test(test_fit_start_infinite),
         cmocka_unit_test(test_fit_callback_failures),
+        cmocka_unit_test(test_fit_changes_during_run),
+        cmocka_unit_test(test_fit_nonfinite_messages),
         cmocka_unit_test(test_fit_destroyed_handles),
         cmocka_unit_test(test_image_options_misuse),
         cmocka_unit_test(test_image_functions_misuse),

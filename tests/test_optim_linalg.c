@@ -129,7 +129,7 @@ static void test_pinv_rank_one(void **state)
         for (j = 0; j < 3; j++) a[i * 3 + j] = u[i] * u[j];
     memcpy(m, a, sizeof m);
     bf_sym_eigen(m, 3, w, v);
-    bf_eigen_pinv(w, v, 3, BF_LINALG_RTOL, p);
+    assert_true(bf_eigen_pinv(w, v, 3, BF_LINALG_RTOL, p, NULL));
     for (i = 0; i < 9; i++) assert_close(p[i], a[i] / 196.0, 1e-14);
     /* pseudo-inverse solve, in place: A^+ b = u (u.b) / |u|^4 */
     b[0] = 1.0;

@@ -34,7 +34,9 @@
  *
  * A fit handle is not thread-safe: use each from one thread at a time
  * (brdffit_fit_cancel() excepted). Different fits may run in parallel, also
- * on the same grid and model.
+ * on the same grid and model. The setters and brdffit_fit_run() called
+ * during a run (from the fit's iteration callback or a user model) refuse
+ * with ::BRDFFIT_E_INVALID_ARGUMENT and change nothing.
  */
 #ifndef BRDFFIT_FIT_H
 #define BRDFFIT_FIT_H
@@ -53,6 +55,17 @@
 
 /** @brief Opaque fit. */
 typedef struct brdffit_fit brdffit_fit;
+
+/**
+ * @brief The most parameters the auto and joint pipelines fit at once (the
+ *        optimizer's limit): every channel's colours and the shared shape,
+ *        brdffit_model_vector_size() for the grid's channels. Beyond it
+ *        brdffit_fit_run() refuses with ::BRDFFIT_E_TOO_LARGE before
+ *        allocating anything of that size (Ashikhmin-Shirley: 2048
+ *        channels or more); the two-stage pipeline fits each channel alone
+ *        and has no such limit.
+ */
+#define BRDFFIT_FIT_MAX_PARAMS 4096
 
 /** @brief Fit pipelines. Values are fixed forever. */
 typedef enum brdffit_pipeline {
@@ -210,7 +223,9 @@ BRDFFIT_API brdffit_status brdffit_fit_set_callback(brdffit_fit *fit, brdffit_it
 /**
  * @brief Ask a running fit to stop. Any thread may call this at any time;
  *        the fit stops within one iteration (or one scan step) with
- *        ::BRDFFIT_STOP_CANCELLED. The request is consumed when the run ends.
+ *        ::BRDFFIT_STOP_CANCELLED, also from inside a step's linear solve
+ *        or the standard errors (which may then be 0). The request is
+ *        consumed when the run ends.
  */
 BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
 
@@ -225,7 +240,10 @@ BRDFFIT_API void brdffit_fit_cancel(brdffit_fit *fit);
  *         lies outside [1e-100, 1e100] (its square would under- or
  *         overflow: rescale the data);
  *         ::BRDFFIT_E_MODEL_FAILED; ::BRDFFIT_E_NONFINITE when the model or
- *         the data give NaN or Inf at the start; ::BRDFFIT_E_OUT_OF_MEMORY;
+ *         the data give NaN or Inf at the start; ::BRDFFIT_E_TOO_LARGE when
+ *         the auto or joint pipeline would fit more than
+ *         ::BRDFFIT_FIT_MAX_PARAMS parameters at once;
+ *         ::BRDFFIT_E_OUT_OF_MEMORY;
  *         ::BRDFFIT_E_BAD_HANDLE. brdffit_fit_message() says more.
  */
 BRDFFIT_API brdffit_status brdffit_fit_run(brdffit_fit *fit);

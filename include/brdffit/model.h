@@ -88,7 +88,10 @@ typedef struct brdffit_param_info {
  * @return ::BRDFFIT_OK, or any error status (for example
  *         ::BRDFFIT_E_RANGE for a domain error); the library reports a
  *         failure as ::BRDFFIT_E_MODEL_FAILED and names the model and the
- *         returned status.
+ *         returned status. A fit leaves out a point where the model fails
+ *         (a rejected trial step, a skipped point of the auto pipeline's
+ *         scan) and fails only when no point can be evaluated or the
+ *         start point cannot.
  */
 typedef brdffit_status (*brdffit_model_eval_fn)(const brdffit_batch *batch,
                                                 const double *params, size_t n_channels,

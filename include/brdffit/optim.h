@@ -407,7 +407,9 @@ BRDFFIT_API double brdffit_optimizer_condition(const brdffit_optimizer *opt);
  * (a zero or vanished Jacobian column, or a direction at least 1 % of
  * which lies in the dropped eigenspace) has variance HUGE_VAL and 0
  * covariance with the others; never 0, never NaN.
- * Computed on demand, O(p^3).
+ * Computed on demand, O(p^3); the classic covariance of a J^T J made of
+ * small blocks coupled only through a few parameters (a fit of many
+ * channels) in linear time, with the same result (docs/optimizer.md).
  * @param opt The optimizer.
  * @param[out] cov p x p values, row-major.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;

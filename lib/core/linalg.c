@@ -24,12 +24,23 @@ double bf_dot(const double *restrict a, const double *restrict b, size_t n)
     return (s0 + s1) + (s2 + s3);
 }
 
+static int stop_asked(const bf_stop *stop)
+{
+    return stop != NULL && stop->fn(stop->ctx);
+}
+
 int bf_cholesky(double *a, size_t n, double rtol)
+{
+    return bf_cholesky_until(a, n, rtol, NULL) == 1;
+}
+
+int bf_cholesky_until(double *a, size_t n, double rtol, const bf_stop *stop)
 {
     double dmin = HUGE_VAL, dmax = 0.0;
     size_t i, j;
     for (j = 0; j < n; j++) {
         double *rj = a + j * n;
+        if (stop != NULL && j % 16 == 0 && stop_asked(stop)) return -1;
         double d = rj[j] - bf_dot(rj, rj, j), ljj;
         if (!(d > 0.0) || !isfinite(d)) return 0;
         if (d < dmin) dmin = d;
@@ -92,11 +103,16 @@ static void jacobi_rotate(double *a, size_t n, double *v, size_t p, size_t q)
 }
 
 /* One cyclic sweep; returns the number of rotations made. An element too
- * small to change either diagonal entry in floating point is set to 0. */
-static size_t jacobi_sweep(double *a, size_t n, double *v)
+ * small to change either diagonal entry in floating point is set to 0.
+ * *stopped is set when `stop` asks to give up (checked once per row). */
+static size_t jacobi_sweep(double *a, size_t n, double *v, const bf_stop *stop, int *stopped)
 {
     size_t p, q, rotations = 0;
     for (p = 0; p + 1 < n; p++) {
+        if (stop_asked(stop)) {
+            *stopped = 1;
+            return rotations;
+        }
         for (q = p + 1; q < n; q++) {
             double apq = a[p * n + q];
             double scale = sqrt(fabs(a[p * n + p])) * sqrt(fabs(a[q * n + q]));
@@ -114,14 +130,20 @@ static size_t jacobi_sweep(double *a, size_t n, double *v)
 
 int bf_sym_eigen(double *a, size_t n, double *w, double *v)
 {
+    return bf_sym_eigen_until(a, n, w, v, NULL);
+}
+
+int bf_sym_eigen_until(double *a, size_t n, double *w, double *v, const bf_stop *stop)
+{
     size_t i, sweep;
-    int converged = 0;
+    int converged = 0, stopped = 0;
     if (v != NULL) {
         for (i = 0; i < n * n; i++) v[i] = 0.0;
         for (i = 0; i < n; i++) v[i * n + i] = 1.0;
     }
-    for (sweep = 0; sweep < BF_JACOBI_MAX_SWEEPS && !converged; sweep++)
-        converged = jacobi_sweep(a, n, v) == 0;
+    for (sweep = 0; sweep < BF_JACOBI_MAX_SWEEPS && !converged && !stopped; sweep++)
+        converged = jacobi_sweep(a, n, v, stop, &stopped) == 0 && !stopped;
+    if (stopped) return -1;
     for (i = 0; i < n; i++) w[i] = a[i * n + i];
     return converged;
 }
@@ -155,11 +177,13 @@ void bf_eigen_pinv_solve(const double *w, const double *v, size_t n, double rtol
     }
 }
 
-void bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, double *out)
+int bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, double *out,
+                  const bf_stop *stop)
 {
     double thr = eigen_threshold(w, n, rtol);
     size_t i, j, k;
     for (i = 0; i < n; i++) {
+        if (stop_asked(stop)) return 0;
         for (j = i; j < n; j++) {
             double s = 0.0;
             for (k = 0; k < n; k++)
@@ -167,6 +191,7 @@ void bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, doub
             out[i * n + j] = out[j * n + i] = s;
         }
     }
+    return 1;
 }
 
 double bf_eigen_condition(const double *w, size_t n)

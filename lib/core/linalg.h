@@ -7,6 +7,13 @@
 
 #include <stddef.h>
 
+/* A stop request for the O(n^3) routines below: fn(ctx) != 0 asks them to
+ * give up (they look at it about every n^2 operations). NULL: never. */
+typedef struct bf_stop {
+    int (*fn)(const void *ctx);
+    const void *ctx;
+} bf_stop;
+
 /* Sum of a[k] * b[k] with four independent partial sums in a fixed order,
  * so the compiler can keep the loop in vector registers without
  * reassociating anything: the same result on every machine and clone. */
@@ -24,6 +31,9 @@ double bf_dot(const double *restrict a, const double *restrict b, size_t n);
  * trust). a is garbage after a 0 return. */
 int bf_cholesky(double *a, size_t n, double rtol);
 
+/* bf_cholesky() that returns -1 when `stop` asks it to (a is garbage). */
+int bf_cholesky_until(double *a, size_t n, double rtol, const bf_stop *stop);
+
 /* Solve L L^T x = b in place (b becomes x), L from bf_cholesky(). */
 void bf_cholesky_solve(const double *l, size_t n, double *b);
 
@@ -35,14 +45,20 @@ void bf_cholesky_solve(const double *l, size_t n, double *b);
  * was hit first (the result is then still a close approximation). */
 int bf_sym_eigen(double *a, size_t n, double *w, double *v);
 
+/* bf_sym_eigen() that returns -1 when `stop` asks it to (w and v are then
+ * garbage). */
+int bf_sym_eigen_until(double *a, size_t n, double *w, double *v, const bf_stop *stop);
+
 /* x = A^+ b from w and v of bf_sym_eigen(); eigenvalues at or below
  * rtol times the largest one count as zero. tmp holds n values. x and b
  * may be the same array. */
 void bf_eigen_pinv_solve(const double *w, const double *v, size_t n, double rtol, const double *b,
                          double *x, double *tmp);
 
-/* out = A^+ (n x n) from w and v of bf_sym_eigen(), same rule as above. */
-void bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, double *out);
+/* out = A^+ (n x n) from w and v of bf_sym_eigen(), same rule as above.
+ * Returns 0 when `stop` (may be NULL) asked it to give up, else 1. */
+int bf_eigen_pinv(const double *w, const double *v, size_t n, double rtol, double *out,
+                  const bf_stop *stop);
 
 /* Ratio of the largest to the smallest eigenvalue: HUGE_VAL when the
  * smallest is not positive, 1 when n is 0. */

@@ -117,6 +117,17 @@ const char *brdffit_fit_message(const brdffit_fit *fit)
         (fit)->message[0] = '\0';                                        \
     } while (0)
 
+/* For calls that change the fit: not from inside its own run (its
+ * callbacks, a user model), where the run would mix old and new settings. */
+static brdffit_status check_mutable(brdffit_fit *fit, const char *what)
+{
+    BF_CHECK_FIT(fit);
+    if (fit->running)
+        return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
+                      "%s: the fit cannot be changed while it runs", what);
+    return BRDFFIT_OK;
+}
+
 static int is_whole(double v, double lo, double hi)
 {
     return v >= lo && v <= hi && v == floor(v);
@@ -124,7 +135,7 @@ static int is_whole(double v, double lo, double hi)
 
 brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, double value)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set"));
     switch (setting) {
     case BRDFFIT_FIT_PIPELINE:
         if (!is_whole(value, 0, 2)) break;
@@ -180,7 +191,7 @@ brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setti
 
 brdffit_status brdffit_fit_set_damping(brdffit_fit *fit, const brdffit_damping *policy)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_damping"));
     if (policy == NULL) policy = brdffit_damping_nielsen();
     /* Any size from the first version's up (a newer header's larger struct
      * included); fields the caller's size lacks keep the built-in's. */
@@ -198,7 +209,7 @@ brdffit_status brdffit_fit_set_damping(brdffit_fit *fit, const brdffit_damping *
 brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
 {
     size_t k, c;
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_start"));
     if (params == NULL) {
         brdffit_model_default_params(fit->model, fit->nc, fit->start);
         return BRDFFIT_OK;
@@ -222,7 +233,7 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
 
 brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_fixed"));
     if (param >= brdffit_model_param_count(fit->model))
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "parameter index out of range");
     fit->fixed[param] = fixed != 0;
@@ -231,7 +242,7 @@ brdffit_status brdffit_fit_set_fixed(brdffit_fit *fit, size_t param, int fixed)
 
 brdffit_status brdffit_fit_set_callback(brdffit_fit *fit, brdffit_iteration_fn fn, void *user)
 {
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_set_callback"));
     fit->callback = fn;
     fit->callback_user = user;
     return BRDFFIT_OK;
@@ -255,18 +266,31 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
 {
     bf_result r;
     brdffit_status status;
-    BF_CHECK_FIT(fit);
+    BF_RETURN_IF_ERROR(check_mutable(fit, "brdffit_fit_run"));
     if (!bf_grid_ok(fit->grid) || !bf_model_ok(fit->model)) {
         atomic_store(&fit->cancel, 0);
         return fit_fail(fit, BRDFFIT_E_BAD_HANDLE, "grid or model was destroyed");
     }
     fit->has_result = 0;
+    if (fit->pipeline != BRDFFIT_PIPELINE_TWO_STAGE && fit->n_vec > BRDFFIT_FIT_MAX_PARAMS) {
+        atomic_store(&fit->cancel, 0);
+        return bf_say(fit->message, BRDFFIT_E_TOO_LARGE,
+                      "the %s pipeline fits every channel at once: model '%s' has %zu parameters "
+                      "for %zu channels, more than its limit of %d (BRDFFIT_FIT_MAX_PARAMS); the "
+                      "two-stage pipeline fits each channel alone",
+                      fit->pipeline == BRDFFIT_PIPELINE_AUTO ? "auto" : "joint",
+                      brdffit_model_name(fit->model), fit->n_vec, fit->nc, BRDFFIT_FIT_MAX_PARAMS);
+    }
     memset(&r, 0, sizeof r);
     r.params = fit->result.params;
     r.std_errors = fit->result.std_errors;
     r.metrics = fit->result.metrics;
     r.message = fit->message;
+    fit->running = 1;
     status = bf_run_fit(fit, &r);
+    fit->running = 0;
+    /* a call refused during the run may have left its message */
+    if (status == BRDFFIT_OK) fit->message[0] = '\0';
     keep_result(fit, &r, status);
     atomic_store(&fit->cancel, 0);
     return status;

@@ -33,6 +33,7 @@ struct brdffit_fit {
     brdffit_iteration_fn callback;
     void *callback_user;
     atomic_int cancel;
+    int running; /* inside brdffit_fit_run(): changes are refused */
 
     /* the last run's result (valid when has_result; passes always) */
     int has_result;

@@ -2,8 +2,10 @@
  * evaluation callback, with the model's Jacobian per channel. Serves every
  * problem and every kind of pass. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "core/core.h"
 #include "core/linalg.h"
 #include "fit/pass_route.h"
 #include "models/models.h"
@@ -186,21 +188,105 @@ static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const doubl
     }
 }
 
+/* ---- non-finite numbers, named ------------------------------------------------ */
+
+/* Index of the first non-finite of x[0 .. n), or n. */
+static size_t first_nonfinite(const double *x, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(x[i])) break;
+    return i;
+}
+
+/* Where model channel m's values come from, for messages. */
+static void channel_name(const bf_problem *pb, size_t m, char *out, size_t size)
+{
+    if (pb->source == BF_SOURCE_MEAN) snprintf(out, size, " of the channel mean");
+    else
+        snprintf(out, size, ", channel %zu",
+                 pb->source == BF_SOURCE_ONE_CHANNEL ? pb->source_channel : m);
+}
+
+/* NaN or Inf among the model's values or derivatives of the chunk from
+ * sample `first`: BRDFFIT_E_NONFINITE naming the model, the sample, the
+ * channel and (for a derivative) the parameter. */
+static brdffit_status check_outputs(const bf_problem *pb, size_t first, size_t n,
+                                    const double *vals, const double *jac, brdffit_error *err)
+{
+    const char *model = brdffit_model_name(pb->model);
+    size_t nc = pb->nc, per = nc * n, i = first_nonfinite(vals, per);
+    char where[48];
+    if (i < per) {
+        channel_name(pb, i / n, where, sizeof where);
+        return bf_fail(err, BRDFFIT_E_NONFINITE,
+                       "model \"%s\" gave a non-finite value (%g) at sample %zu%s", model,
+                       vals[i], first + i % n, where);
+    }
+    if (jac == NULL || (i = first_nonfinite(jac, per * pb->ly.n_params)) == per * pb->ly.n_params)
+        return BRDFFIT_OK;
+    channel_name(pb, i % per / n, where, sizeof where);
+    return bf_fail(err, BRDFFIT_E_NONFINITE,
+                   "model \"%s\" gave a non-finite derivative (%g) with respect to \"%s\" at "
+                   "sample %zu%s",
+                   model, jac[i], brdffit_model_param(pb->model, i / per)->name, first + i % n,
+                   where);
+}
+
+/* The sums of a pass overflowed in this chunk although the model's outputs
+ * are finite: name the first sample whose weighted residual squared is not
+ * finite, or the chunk. */
+static brdffit_status overflow(const bf_problem *pb, bf_scratch *sc, const brdffit_batch *batch,
+                               size_t first, brdffit_error *err)
+{
+    size_t m, s, n = batch->n;
+    char where[48];
+    for (m = 0; m < pb->nc; m++) {
+        channel_rows(pb, sc, m, batch->lz, n);
+        for (s = 0; s < n; s++) {
+            if (isfinite(sc->d[s] * sc->d[s])) continue;
+            channel_name(pb, m, where, sizeof where);
+            return bf_fail(err, BRDFFIT_E_NONFINITE,
+                           "the residual of model \"%s\" at sample %zu%s (model %g, measured "
+                           "%g) overflows when squared",
+                           brdffit_model_name(pb->model), first + s, where, sc->vals[m * n + s],
+                           sc->meas[m * n + s]);
+        }
+    }
+    return bf_fail(err, BRDFFIT_E_NONFINITE,
+                   "the sums of model \"%s\" overflow in the %zu samples from sample %zu",
+                   brdffit_model_name(pb->model), n, first);
+}
+
+/* Whether the chunk's sums are still finite (the cost sums, one per
+ * channel at most: cheap against the pass). */
+static int sums_finite(const bf_problem *pb, bf_pass_kind kind, const double *acc)
+{
+    size_t K = pb->ly.n_linear, m;
+    if (kind == BF_PASS_COST || kind == BF_PASS_NORMAL) return isfinite(acc[0]);
+    for (m = 0; m < pb->nc; m++) {
+        const double *a = kind == BF_PASS_METRICS ? acc + 4 * m : acc + m * (1 + K + K * K);
+        if (!isfinite(a[0]) || (kind == BF_PASS_METRICS && !isfinite(a[3]))) return 0;
+    }
+    return 1;
+}
+
 static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
                                     bf_scratch *sc, const brdffit_batch *batch,
                                     brdffit_error *err)
 {
     double *jac = wants_jacobian(kind) ? sc->own : NULL;
-    size_t n = batch->n;
+    size_t n = batch->n, first = (size_t)(batch->lz - pb->grid->geo.lz);
     brdffit_status status = bf_model_eval(pb->model, batch, params, pb->nc, sc->vals, jac, err);
     if (status != BRDFFIT_OK) return status;
+    BF_RETURN_IF_ERROR(check_outputs(pb, first, n, sc->vals, jac, err));
     switch (kind) {
     case BF_PASS_COST: accumulate_cost(pb, sc, batch->lz, n); break;
     case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, batch->lz, n); break;
     case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, n); break;
     case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
     }
-    return BRDFFIT_OK;
+    return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, batch, first, err);
 }
 
 static void generic_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,

@@ -11,6 +11,20 @@
 static const bf_pipeline_fn pipelines[] = {bf_pipeline_auto, bf_pipeline_joint,
                                            bf_pipeline_two_stage};
 
+/* The solid-angle plan of the error figure E and of the log and cube-root
+ * objectives. Cells without solid angle (one theta_o or one phi_o inside
+ * the cap) are no reason to refuse a fit whose own weights do not use it:
+ * the samples then count alike. */
+static brdffit_status make_plan_sa(bf_run *run, brdffit_error *err)
+{
+    const brdffit_fit *fit = run->fit;
+    brdffit_status status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap,
+                                                BRDFFIT_WEIGHT_SOLID_ANGLE, &fit->alloc, err);
+    if (status == BRDFFIT_E_NO_DATA && !(fit->weighting & BRDFFIT_WEIGHT_SOLID_ANGLE))
+        status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap, 0, &fit->alloc, err);
+    return status;
+}
+
 static brdffit_status make_plans(bf_run *run)
 {
     const brdffit_fit *fit = run->fit;
@@ -18,8 +32,7 @@ static brdffit_status make_plans(bf_run *run)
     brdffit_status status =
         bf_weight_plan_init(&run->plan, fit->grid, fit->cap, fit->weighting, &fit->alloc, &err);
     if (status == BRDFFIT_OK) {
-        status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap,
-                                     BRDFFIT_WEIGHT_SOLID_ANGLE, &fit->alloc, &err);
+        status = make_plan_sa(run, &err);
         if (status != BRDFFIT_OK) bf_weight_plan_free(&run->plan, &fit->alloc);
     }
     if (status != BRDFFIT_OK)
@@ -126,19 +139,37 @@ static size_t helper_count(const bf_run *run)
     return blocks > 1 ? blocks - 1 : 0;
 }
 
-/* Error figures of the final parameters (BF_PASS_METRICS). */
-static brdffit_status final_metrics(bf_run *run)
+/* Error figures of the final parameters (BF_PASS_METRICS) over nc
+ * channels from channel c on (every channel, or channel c alone). */
+static brdffit_status metrics_of(bf_run *run, size_t nc, size_t c)
 {
+    const brdffit_fit *fit = run->fit;
     bf_result *r = run->result;
     bf_stage st;
-    brdffit_status status = bf_stage_init(&st, run, run->fit->nc, BF_SOURCE_CHANNELS, 0, 0);
+    size_t k;
+    brdffit_status status = bf_stage_init(&st, run, nc, nc == fit->nc ? BF_SOURCE_CHANNELS
+                                                                      : BF_SOURCE_ONE_CHANNEL,
+                                          c, 0);
     if (status != BRDFFIT_OK) return status;
-    memcpy(st.p, r->params, st.n * sizeof *st.p);
+    if (nc == fit->nc) memcpy(st.p, r->params, st.n * sizeof *st.p);
+    else
+        for (k = 0; k < st.pb.ly.n_params; k++)
+            st.p[st.vindex[k]] = r->params[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
     status = bf_stage_pass(&st, BF_PASS_METRICS);
-    if (status == BRDFFIT_OK) memcpy(r->metrics, st.acc, 4 * run->fit->nc * sizeof(double));
+    if (status == BRDFFIT_OK) memcpy(r->metrics + 4 * c, st.acc, 4 * nc * sizeof(double));
     else status = bf_stage_fail(&st, status, "error figures");
     bf_stage_free(&st);
     return status;
+}
+
+/* All channels in one pass; channel by channel where the parameters of
+ * all of them are too many for one stage (the two-stage pipeline). */
+static brdffit_status final_metrics(bf_run *run)
+{
+    size_t c;
+    if (run->fit->n_vec <= BRDFFIT_FIT_MAX_PARAMS) return metrics_of(run, run->fit->nc, 0);
+    for (c = 0; c < run->fit->nc; c++) BF_RETURN_IF_ERROR(metrics_of(run, 1, c));
+    return BRDFFIT_OK;
 }
 
 /* The pipeline and the error figures, with the run's helper threads. */

@@ -75,13 +75,22 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u)
 brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
                                   double *cost)
 {
+    brdffit_status status;
     if (atomic_load(&st->run->fit->cancel)) {
         st->run->cancelled = 1;
         *cost = HUGE_VAL; /* not evaluated: never chosen */
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
-    BF_RETURN_IF_ERROR(bf_varpro_profile(st, cost));
+    status = bf_varpro_profile(st, cost);
+    /* a point the model cannot evaluate (a domain error, NaN) is left out,
+     * as the optimizer rejects such a trial step; st->status keeps why; it
+     * is not recorded in the trace, which holds the costs evaluated */
+    if (status == BRDFFIT_E_MODEL_FAILED || status == BRDFFIT_E_NONFINITE) {
+        *cost = HUGE_VAL;
+        return BRDFFIT_OK;
+    }
+    BF_RETURN_IF_ERROR(status);
     return bf_trace_scan(&st->run->result->trace, &st->run->fit->alloc, *cost);
 }
 
@@ -158,7 +167,11 @@ static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
         keep_candidate(sc, f[flat], u);
     }
     bf_free(a, f);
-    return status;
+    if (status != BRDFFIT_OK) return status;
+    /* every point failed: the last failure is the fit's */
+    if (sc->n_best == 0 && !st->run->cancelled && st->status != BRDFFIT_OK) return st->status;
+    st->status = BRDFFIT_OK;
+    return BRDFFIT_OK;
 }
 
 brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)

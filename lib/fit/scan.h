@@ -33,7 +33,9 @@ typedef struct bf_scan {
 
 /* Scan the stage's shared free non-linear entries and keep the best local
  * minima in sc->best (with no such entry, one candidate of cost 0 at the
- * start values). A cancel leaves the points not reached out. */
+ * start values). A cancel leaves the points not reached out; points the
+ * model cannot evaluate are left out too, and when none could be, their
+ * failure is returned. */
 brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc);
 
 /* Refine candidates [0, n) along the single scan dimension. */
@@ -44,7 +46,9 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u);
 
 /* The profile cost at scan coordinates u, st->p set to the point with its
  * best colours, recorded in the run's trace (trace.h); HUGE_VAL without
- * evaluating when the fit is cancelled. */
+ * evaluating when the fit is cancelled, and HUGE_VAL (st->status and
+ * st->err saying why, not traced) where the model fails or gives NaN or
+ * Inf: such points are left out of the scan. */
 brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
                                   double *cost);
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "optim/watch.h"
 
 static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t n_acc,
                                   size_t n_work)
@@ -107,6 +108,12 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
     fill_problem(st, nc, source, source_channel);
     n = st->pb.ly.n_vec;
     st->n = n;
+    /* brdffit_fit_run() keeps larger problems from the pipelines that fit
+     * all channels at once; the accumulators below grow with n^2 */
+    if (n > BRDFFIT_FIT_MAX_PARAMS)
+        return bf_say(run->result->message, BRDFFIT_E_TOO_LARGE,
+                      "%zu parameters at once, more than the limit of %d", n,
+                      BRDFFIT_FIT_MAX_PARAMS);
     n_acc = bf_pass_acc_size(&st->pb, BF_PASS_NORMAL);
     if (bf_pass_acc_size(&st->pb, BF_PASS_VARPRO) > n_acc)
         n_acc = bf_pass_acc_size(&st->pb, BF_PASS_VARPRO);
@@ -286,6 +293,9 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     st->status = BRDFFIT_OK;
     status = brdffit_optimizer_create(&st->opt, st->n, &fit->alloc, NULL);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "creating the optimizer");
+    /* the fit's cancel stops the optimizer inside a step's solve and the
+     * standard errors too */
+    bf_optim_watch(st->opt, &fit->cancel);
     bf_count_rows(&st->pb, &rows, NULL);
     if (rows == 0) return no_rows(st);
     status = configure(st, rows);
@@ -295,6 +305,7 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
     collect(st, st->x, params, se);
+    if (atomic_load(&fit->cancel)) st->run->cancelled = 1;
     return bf_trace_lm(&st->run->result->trace, &fit->alloc, st->kind, st->label, st->opt,
                        &st->traced);
 }

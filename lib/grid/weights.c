@@ -127,7 +127,8 @@ static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_
         if (!(sum > 0.0))
             return bf_fail(err, BRDFFIT_E_NO_DATA,
                            "the view cells within the cap of %g rad have no solid angle (the "
-                           "theta_o or phi_o axis values are too close together)", cap);
+                           "theta_o or phi_o axis has a single value there, or its values are "
+                           "too close together); weigh without the solid angle", cap);
         p->scale = 1.0 / sum;
     }
     row = p->n_to_act * n_po;

@@ -60,11 +60,18 @@ static void mark_undetermined(const brdffit_optimizer *opt, size_t n)
     }
 }
 
-/* (S A S)^+ over C into w->m, S = diag(A)^-1/2 in w->scale (0 for a zero
- * diagonal), the undetermined parameters in w->held; returns |C|. The
- * scaling makes the pseudo-inverse's cut-off independent of the units. */
-static size_t scaled_pinv(const brdffit_optimizer *opt)
+static int watched(const void *ctx)
 {
+    return bf_optim_watched_stop(ctx);
+}
+
+/* (S A S)^+ over C into w->m, S = diag(A)^-1/2 in w->scale (0 for a zero
+ * diagonal), the undetermined parameters in w->held; |C| into *count.
+ * The scaling makes the pseudo-inverse's cut-off independent of the
+ * units. Returns 0 when the watched flag stopped it. */
+static int scaled_pinv(const brdffit_optimizer *opt, size_t *count)
+{
+    const bf_stop stop = {watched, opt};
     const bf_optim_work *w = &opt->w;
     size_t a, b, p = opt->n_params, n = gather_analysed(w, p);
     for (a = 0; a < n; a++) {
@@ -75,35 +82,46 @@ static size_t scaled_pinv(const brdffit_optimizer *opt)
         const double *row = w->jtj + w->free_idx[a] * p;
         for (b = 0; b < n; b++) w->m[a * n + b] = row[w->free_idx[b]] * w->scale[a] * w->scale[b];
     }
-    bf_sym_eigen(w->m, n, w->w, w->v);
+    *count = n;
+    if (bf_sym_eigen_until(w->m, n, w->w, w->v, &stop) < 0) return 0;
     mark_undetermined(opt, n);
-    bf_eigen_pinv(w->w, w->v, n, BF_LINALG_RTOL, w->m);
-    return n;
+    return bf_eigen_pinv(w->w, w->v, n, BF_LINALG_RTOL, w->m, &stop);
 }
 
-/* out = x y (n x n, row stride n). */
-static void multiply(const double *x, const double *y, size_t n, double *out)
+double bf_optim_classic_factor(const brdffit_optimizer *opt, size_t n)
+{
+    size_t rows = opt->res.n_rows;
+    double dof = rows > n ? (double)(rows - n) : 0.0;
+    return dof > 0.0 ? opt->res.final_cost / dof : 1.0;
+}
+
+/* out = x y (n x n, row stride n); 0 when the watched flag stopped it. */
+static int multiply(const brdffit_optimizer *opt, const double *x, const double *y, size_t n,
+                    double *out)
 {
     size_t a, b, k;
-    for (a = 0; a < n; a++)
+    for (a = 0; a < n; a++) {
+        if (bf_optim_watched_stop(opt)) return 0;
         for (b = 0; b < n; b++) {
             double s = 0.0;
             for (k = 0; k < n; k++) s += x[a * n + k] * y[k * n + b];
             out[a * n + b] = s;
         }
+    }
+    return 1;
 }
 
 /* The middle of the covariance over C, the factor before it returned:
  * classic: s^2 (S A S)^+, s^2 = cost / (n_rows - |C|) (1 when
  * n_rows <= |C|); sandwich: (S A S)^+ (S B S) (S A S)^+ with B from
- * bf_optim_prepare_sandwich() in w->meat, in w->v. */
+ * bf_optim_prepare_sandwich() in w->meat, in w->v. NULL when the watched
+ * flag stopped it. */
 static const double *middle(const brdffit_optimizer *opt, size_t n, double *factor)
 {
     const bf_optim_work *w = &opt->w;
-    size_t a, b, p = opt->n_params, rows = opt->res.n_rows;
-    double dof = rows > n ? (double)(rows - n) : 0.0;
+    size_t a, b, p = opt->n_params;
     if (!opt->res.sandwich) {
-        *factor = dof > 0.0 ? opt->res.final_cost / dof : 1.0;
+        *factor = bf_optim_classic_factor(opt, n);
         return w->m;
     }
     *factor = 1.0;
@@ -111,20 +129,20 @@ static const double *middle(const brdffit_optimizer *opt, size_t n, double *fact
         for (b = 0; b < n; b++)
             w->v[a * n + b] =
                 w->meat[w->free_idx[a] * p + w->free_idx[b]] * w->scale[a] * w->scale[b];
-    multiply(w->m, w->v, n, w->jtj_new);
-    multiply(w->jtj_new, w->m, n, w->v);
+    if (!multiply(opt, w->m, w->v, n, w->jtj_new) || !multiply(opt, w->jtj_new, w->m, n, w->v))
+        return NULL;
     return w->v;
 }
 
-void bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
+int bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
 {
     const bf_optim_work *w = &opt->w;
     size_t a, b, p = opt->n_params, n;
     const double *mid;
     double f;
     memset(cov, 0, p * p * sizeof *cov);
-    n = scaled_pinv(opt);
-    mid = middle(opt, n, &f);
+    if (bf_blocks_covariance(opt, cov)) return 1;
+    if (!scaled_pinv(opt, &n) || (mid = middle(opt, n, &f)) == NULL) return 0;
     for (a = 0; a < n; a++) {
         double *crow = cov + w->free_idx[a] * p;
         if (w->held[a]) {
@@ -134,23 +152,28 @@ void bf_optim_covariance(const brdffit_optimizer *opt, double *cov)
         for (b = 0; b < n; b++)
             if (!w->held[b]) crow[w->free_idx[b]] = f * w->scale[a] * mid[a * n + b] * w->scale[b];
     }
+    return 1;
 }
 
 /* The square roots of the covariance diagonal, taken factor by factor: a
  * parameter the data barely determine (a tiny diagonal of A) has a
  * variance beyond the double range but a standard error within it. */
-void bf_optim_std_errors(const brdffit_optimizer *opt, double *se)
+int bf_optim_std_errors(const brdffit_optimizer *opt, double *se)
 {
     const bf_optim_work *w = &opt->w;
     size_t a, n;
     const double *mid;
     double f;
     memset(se, 0, opt->n_params * sizeof *se);
-    n = scaled_pinv(opt);
-    mid = middle(opt, n, &f);
+    if (bf_blocks_std_errors(opt, se)) return 1;
+    if (!scaled_pinv(opt, &n) || (mid = middle(opt, n, &f)) == NULL) {
+        memset(se, 0, opt->n_params * sizeof *se);
+        return 0;
+    }
     for (a = 0; a < n; a++)
         se[w->free_idx[a]] =
             w->held[a] ? HUGE_VAL : sqrt(f) * w->scale[a] * sqrt(fmax(mid[a * n + a], 0.0));
+    return 1;
 }
 
 /* Leverage h_i = J_i A^+ J_i^T of row i over C, with (S A S)^+ in w->m. */
@@ -178,7 +201,7 @@ int bf_optim_prepare_sandwich(brdffit_optimizer *opt)
     size_t i, j, k, p = opt->n_params, n;
     double cost;
     if (bf_optim_eval(opt, w->x, 1, &cost, w->jtj_new, w->g_new, NULL, 0) != BRDFFIT_OK) return 0;
-    n = scaled_pinv(opt);
+    if (!scaled_pinv(opt, &n)) return 0;
     memset(w->meat, 0, p * p * sizeof *w->meat);
     for (i = 0; i < opt->n_rows; i++) {
         const double *row = opt->jac + i * p;

@@ -85,7 +85,7 @@ static brdffit_status history_push(lm_run *run)
 static brdffit_stop_reason check_before(const lm_run *run)
 {
     const brdffit_optimizer *opt = run->opt;
-    if (atomic_load(&run->opt->cancel)) return BRDFFIT_STOP_CANCELLED;
+    if (bf_optim_stopped(run->opt)) return BRDFFIT_STOP_CANCELLED;
     if (run->cost < DBL_MIN) return BRDFFIT_STOP_ZERO_COST;
     if (bf_optim_gradient_small(opt, run->cost)) return BRDFFIT_STOP_GRADIENT;
     if (run->iterations >= opt->settings.max_iterations) return BRDFFIT_STOP_MAX_ITERATIONS;
@@ -210,6 +210,10 @@ static brdffit_status iterate(lm_run *run, brdffit_stop_reason *stop)
     brdffit_optimizer *opt = run->opt;
     *stop = BRDFFIT_STOP_NONE;
     run->pred = bf_optim_step(opt, run->lambda, run->t, run->bound, &run->bounded, &run->fallback);
+    if (bf_optim_stopped(opt)) { /* maybe inside the step's solve: no step */
+        *stop = BRDFFIT_STOP_CANCELLED;
+        return BRDFFIT_OK;
+    }
     if (step_small(opt)) {
         *stop = BRDFFIT_STOP_STEP;
         return BRDFFIT_OK;

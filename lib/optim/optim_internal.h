@@ -67,6 +67,7 @@ typedef struct bf_optim_work {
     double *v;       /* eigenvectors */
     double *meat;    /* after a run: sum r_i^2 J_i J_i^T, for the sandwich */
     size_t *free_idx;
+    size_t *order, *group, *pos; /* after a run: the block structure (blocks.c) */
     unsigned char *fixed, *held;
     unsigned char *analysed; /* after a run: neither fixed nor on a bound */
 } bf_optim_work;
@@ -91,6 +92,7 @@ struct brdffit_optimizer {
     void *callback_user;
 
     atomic_int cancel; /* set by brdffit_optimizer_cancel(), any thread */
+    const atomic_int *watch; /* bf_optim_watch(): another cancel flag, or NULL */
     int running;       /* a run is in progress (calls from callbacks) */
 
     void *block; /* the workspace block */
@@ -167,11 +169,27 @@ void bf_optim_mark_analysed(brdffit_optimizer *opt);
 double bf_optim_condition(const brdffit_optimizer *opt);
 
 /* analysis.c: covariance (p x p) at the returned point into cov. */
-void bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
+int bf_optim_covariance(const brdffit_optimizer *opt, double *cov);
 /* analysis.c: the rows' outer products at the returned point into w.meat
  * (residual form; one more evaluation); 0 when it cannot be evaluated. */
 int bf_optim_prepare_sandwich(brdffit_optimizer *opt);
-/* analysis.c: standard errors (p) at the returned point into se. */
-void bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
+/* analysis.c: standard errors (p) at the returned point into se. Both
+ * return 0 when the watched flag (bf_optim_watch()) stopped them. */
+int bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
+/* analysis.c: the factor s^2 of the classic covariance over n analysed
+ * parameters. */
+double bf_optim_classic_factor(const brdffit_optimizer *opt, size_t n);
+
+/* blocks.c: the classic covariance and standard errors from the block
+ * structure of J^T J (many channels) in linear time; 0 (nothing written)
+ * when there is no such structure or the result could differ from the
+ * dense path's, which the caller then takes. */
+int bf_blocks_covariance(const brdffit_optimizer *opt, double *cov);
+int bf_blocks_std_errors(const brdffit_optimizer *opt, double *se);
+
+/* watch.c: whether a run should stop (brdffit_optimizer_cancel() or the
+ * watched flag), and whether the watched flag alone is set. */
+int bf_optim_stopped(const brdffit_optimizer *opt);
+int bf_optim_watched_stop(const brdffit_optimizer *opt);
 
 #endif /* BRDFFIT_OPTIM_INTERNAL_H */

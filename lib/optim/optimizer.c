@@ -66,7 +66,7 @@ static int alloc_work(brdffit_optimizer *opt)
      * overflow. The matrices are always written before they are read and
      * are not touched here, so a large optimizer costs no memory it does
      * not use. */
-    small = BF_WORK_VECTORS * p * sizeof(double) + p * sizeof(size_t) + 3 * p;
+    small = BF_WORK_VECTORS * p * sizeof(double) + 4 * p * sizeof(size_t) + 3 * p;
     bytes = BF_WORK_MATRICES * pp * sizeof(double) + small;
     opt->block = bf_malloc(&opt->alloc, bytes);
     if (opt->block == NULL) return 0;
@@ -75,7 +75,10 @@ static int alloc_work(brdffit_optimizer *opt)
     memset(d, 0, small);
     for (i = 0; i < BF_WORK_VECTORS; i++, d += p) *vectors[i] = d;
     w->free_idx = (size_t *)(void *)d;
-    w->fixed = (unsigned char *)(w->free_idx + p);
+    w->order = w->free_idx + p;
+    w->group = w->order + p;
+    w->pos = w->group + p;
+    w->fixed = (unsigned char *)(w->pos + p);
     w->held = w->fixed + p;
     w->analysed = w->held + p;
     for (i = 0; i < p; i++) {

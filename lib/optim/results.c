@@ -98,7 +98,7 @@ brdffit_status brdffit_optimizer_covariance(const brdffit_optimizer *opt, double
     BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
     if (cov == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     BF_RETURN_IF_ERROR(covariance_ready(opt));
-    bf_optim_covariance(opt, cov);
+    if (!bf_optim_covariance(opt, cov)) return BRDFFIT_E_NOT_READY; /* watched flag */
     return BRDFFIT_OK;
 }
 
@@ -107,6 +107,6 @@ brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt, double
     BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
     if (se == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     BF_RETURN_IF_ERROR(covariance_ready(opt));
-    bf_optim_std_errors(opt, se);
+    if (!bf_optim_std_errors(opt, se)) return BRDFFIT_E_NOT_READY; /* watched flag */
     return BRDFFIT_OK;
 }

@@ -85,23 +85,34 @@ static void build_scaled(brdffit_optimizer *opt, size_t nf)
     }
 }
 
-/* delta (nf values) = -(A + lambda D)^-1 g over the free set. */
+static int stop_requested(const void *ctx)
+{
+    return bf_optim_stopped(ctx);
+}
+
+/* delta (nf values) = -(A + lambda D)^-1 g over the free set; 0 (no step)
+ * when a cancel stopped the solve. */
 static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback)
 {
     bf_optim_work *w = &opt->w;
+    const bf_stop stop = {stop_requested, opt};
     size_t a;
+    int factored;
     equilibrate(opt, nf, lambda);
     build_scaled(opt, nf);
     for (a = 0; a < nf; a++) w->delta[a] = -w->g[w->free_idx[a]] * w->scale[a];
-    if (bf_cholesky(w->m, nf, BF_LINALG_RTOL)) {
+    factored = bf_cholesky_until(w->m, nf, BF_LINALG_RTOL, &stop);
+    if (factored == 1) {
         bf_cholesky_solve(w->m, nf, w->delta);
-    } else {
+    } else if (factored == 0) {
         *fallback = 1;
         build_scaled(opt, nf);
-        bf_sym_eigen(w->m, nf, w->w, w->v);
-        bf_eigen_pinv_solve(w->w, w->v, nf, BF_LINALG_RTOL, w->delta, w->delta, w->tmp);
+        if (bf_sym_eigen_until(w->m, nf, w->w, w->v, &stop) >= 0)
+            bf_eigen_pinv_solve(w->w, w->v, nf, BF_LINALG_RTOL, w->delta, w->delta, w->tmp);
+        else
+            factored = -1;
     }
-    for (a = 0; a < nf; a++) w->delta[a] *= w->scale[a];
+    for (a = 0; a < nf; a++) w->delta[a] = factored < 0 ? 0.0 : w->delta[a] * w->scale[a];
 }
 
 /* Hold free parameters on a bound whose delta points out of the box.

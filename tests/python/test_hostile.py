@@ -5,7 +5,8 @@ Closing or changing a fit during its run (from its callbacks and from
 other threads), exceptions and Ctrl-C during a run, and arguments the C
 library must never see: paths with NUL, complex numbers, transposed model
 output, odd exception subclasses, non-buffer data, bytes names, and a
-library that is not libbrdffit."""
+library that is not libbrdffit; a channel count beyond the joint fit's
+limit, refused with a named status."""
 
 import ctypes.util
 import os
@@ -259,6 +260,20 @@ class Arguments(Fixture):
                               "type(e).__name__, e)"], env=env, capture_output=True, text=True)
         self.assertTrue(out.stdout.startswith("OSError"), out.stdout + out.stderr)
         self.assertIn("is not libbrdffit", out.stdout)
+
+
+class Limits(unittest.TestCase):
+    def test_channel_limit_is_named(self):
+        # 2048 channels of Ashikhmin-Shirley: 4097 parameters at once
+        axis = np.array([0.0, 0.5])
+        grid = Grid.from_regular(axis, axis, np.array([0.0, 1.5]), np.full((8, 2048), 0.1))
+        model = Model.builtin("ashikhmin-shirley")
+        for pipeline in ("joint", "auto"):
+            with self.assertRaises(BrdffitError) as cm:
+                Fit(grid, model, pipeline=pipeline).run()
+            self.assertEqual(cm.exception.status, Status.E_TOO_LARGE)
+            self.assertIn("4096", str(cm.exception))
+            self.assertIn("two-stage", str(cm.exception))
 
 
 if __name__ == "__main__":
