@@ -42,6 +42,8 @@ static const char fit_help[] =
     "                        for --preview)\n"
     "  --mtlx OUT.mtlx       write the same material as a MaterialX document with\n"
     "                        an open_pbr_surface (same models; %s as for --preview)\n"
+    "  --mtlx-shader S       the MaterialX shader: open_pbr_surface (default),\n"
+    "                        standard_surface, or both\n"
     "\n"
     "Warnings about a fit go to standard error, and into the summary and JSON.\n"
     "Exit status: 0 when every file was fitted, 1 when some failed (or, with\n"
@@ -52,7 +54,7 @@ typedef struct fit_opts {
     brdffit_pipeline pipeline;
     brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
-    unsigned weighting;
+    unsigned weighting, mtlx_shaders;
     size_t threads, max_iterations;
     int json, strict;
 } fit_opts;
@@ -195,7 +197,8 @@ static void write_export(const fit_run *run, fit_result *r, const char *pattern,
         fail(r, BRDFFIT_E_OUT_OF_MEMORY, full);
         return;
     }
-    rc = mtlx ? cli_mtlx_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg)
+    rc = mtlx ? cli_mtlx_export(name, run->model, r->params, r->n_channels, base,
+                                run->opts->mtlx_shaders, msg, sizeof msg)
               : cli_gltf_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg);
     if (rc != 0) {
         cli_format(full, sizeof full, "%s %s: %s", what, name, msg);
@@ -387,6 +390,17 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         o->gltf = value;
     else if (strcmp(name, "mtlx") == 0)
         o->mtlx = value;
+    else if (strcmp(name, "mtlx-shader") == 0) {
+        if (strcmp(value, "open_pbr_surface") == 0)
+            o->mtlx_shaders = CLI_MTLX_OPENPBR;
+        else if (strcmp(value, "standard_surface") == 0)
+            o->mtlx_shaders = CLI_MTLX_STANDARD;
+        else if (strcmp(value, "both") == 0)
+            o->mtlx_shaders = CLI_MTLX_OPENPBR | CLI_MTLX_STANDARD;
+        else
+            return cli_usage_error("fit", "--mtlx-shader is open_pbr_surface, standard_surface "
+                                          "or both");
+    }
     else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
@@ -441,7 +455,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
-                                         {"objective", 1},
+                                         {"objective", 1}, {"mtlx-shader", 1},
                                          {NULL, 0}};
     cli_args a;
     const char *name, *value;

@@ -24,11 +24,18 @@ int cli_gltf_exportable(const char *model_name);
 int cli_gltf_export(const char *path, const brdffit_model *model, const double *params,
                     size_t n_channels, const char *name, char *msg, size_t msg_size);
 
+/* The shader nodes --mtlx writes (--mtlx-shader). */
+#define CLI_MTLX_OPENPBR 1u  /* open_pbr_surface SR_<name>, material M_<name> */
+#define CLI_MTLX_STANDARD 2u /* standard_surface SS_<name>, material MS_<name> */
+
 /* export_mtlx.c: write `path` (atomically) as a MaterialX 1.39 document
- * with one open_pbr_surface (OpenPBR Surface 1.1) holding the same fitted
- * material, named after `name` (made a MaterialX identifier), and its
- * surfacematerial. Returns 0, or -1 with msg as for cli_gltf_export(). */
+ * holding the same fitted material as an open_pbr_surface (OpenPBR Surface
+ * 1.1) and/or a standard_surface (Autodesk Standard Surface), as `shaders`
+ * says (0: the OpenPBR one), named after `name` (made a MaterialX
+ * identifier), each with its surfacematerial. Returns 0, or -1 with msg as
+ * for cli_gltf_export(). */
 int cli_mtlx_export(const char *path, const brdffit_model *model, const double *params,
-                    size_t n_channels, const char *name, char *msg, size_t msg_size);
+                    size_t n_channels, const char *name, unsigned shaders, char *msg,
+                    size_t msg_size);
 
 #endif /* BRDFFIT_CLI_EXPORT_GLTF_H */
