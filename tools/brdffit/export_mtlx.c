@@ -1,4 +1,4 @@
-/* brdffit fit --mtlx: the fitted glTF material as a MaterialX document with
+/* brdffit fit --mtlx: the fitted glTF or OpenPBR material as a MaterialX document with
  * one open_pbr_surface (OpenPBR Surface 1.1, MaterialX 1.39) and/or one
  * standard_surface (Autodesk Standard Surface), each with the
  * surfacematerial that uses it. The mapping, and where OpenPBR renders
@@ -13,6 +13,7 @@ typedef struct mtlx_doc {
     int coated;
     double coat, coat_roughness, coat_ior;
     unsigned shaders; /* CLI_MTLX_OPENPBR | CLI_MTLX_STANDARD */
+    const char *note; /* NULL, or a comment on where the material comes from */
     char name[128];   /* a MaterialX identifier */
 } mtlx_doc;
 
@@ -40,20 +41,31 @@ static int value_of(const brdffit_model *model, const double *params, size_t nc,
     return 0;
 }
 
-static int read_doc(const brdffit_model *model, const double *params, size_t nc, mtlx_doc *d,
-                    char *msg, size_t msg_size)
+/* An OpenPBR model's fit: its parameters are the inputs (coat_ior is the
+ * model's fixed 1.6). */
+static int read_openpbr(const brdffit_model *model, const double *params, size_t nc, mtlx_doc *d)
 {
     size_t c;
     int bad = 0;
-    if (!cli_gltf_exportable(brdffit_model_name(model))) {
-        cli_format(msg, msg_size, "model \"%s\" is not the glTF BRDF (fit with --model %s or %s)",
-                   brdffit_model_name(model), CLI_GLTF_MODEL, CLI_GLTF_COAT_MODEL);
-        return -1;
+    for (c = 0; c < 3; c++)
+        bad |= value_of(model, params, nc, "base_color", nc == 3 ? c : 0, &d->base[c]);
+    bad |= value_of(model, params, nc, "base_metalness", 0, &d->metallic);
+    bad |= value_of(model, params, nc, "specular_roughness", 0, &d->roughness);
+    bad |= value_of(model, params, nc, "specular_ior", 0, &d->ior);
+    d->coat = d->coat_roughness = 0.0;
+    d->coat_ior = 1.6;
+    d->coated = strcmp(brdffit_model_name(model), "openpbr-coat") == 0;
+    if (d->coated) {
+        bad |= value_of(model, params, nc, "coat_weight", 0, &d->coat);
+        bad |= value_of(model, params, nc, "coat_roughness", 0, &d->coat_roughness);
     }
-    if (nc != 1 && nc != 3) {
-        cli_format(msg, msg_size, "MaterialX colours need 1 or 3 channels, the data have %zu", nc);
-        return -1;
-    }
+    return bad;
+}
+
+static int read_gltf(const brdffit_model *model, const double *params, size_t nc, mtlx_doc *d)
+{
+    size_t c;
+    int bad = 0;
     for (c = 0; c < 3; c++)
         bad |= value_of(model, params, nc, "baseColor", nc == 3 ? c : 0, &d->base[c]);
     bad |= value_of(model, params, nc, "metallic", 0, &d->metallic);
@@ -65,8 +77,25 @@ static int read_doc(const brdffit_model *model, const double *params, size_t nc,
         bad |= value_of(model, params, nc, "clearcoat", 0, &d->coat);
         bad |= value_of(model, params, nc, "clearcoatRoughness", 0, &d->coat_roughness);
     }
-    if (bad)
-        cli_format(msg, msg_size, "model \"%s\" lacks a glTF parameter", brdffit_model_name(model));
+    return bad;
+}
+
+static int read_doc(const brdffit_model *model, const double *params, size_t nc, mtlx_doc *d,
+                    char *msg, size_t msg_size)
+{
+    const char *name = brdffit_model_name(model);
+    int bad;
+    if (!cli_export_native(name, 1)) {
+        cli_format(msg, msg_size, "model \"%s\" is neither the glTF BRDF nor OpenPBR's", name);
+        return -1;
+    }
+    if (nc != 1 && nc != 3) {
+        cli_format(msg, msg_size, "MaterialX colours need 1 or 3 channels, the data have %zu", nc);
+        return -1;
+    }
+    bad = cli_gltf_exportable(name) ? read_gltf(model, params, nc, d)
+                                    : read_openpbr(model, params, nc, d);
+    if (bad) cli_format(msg, msg_size, "model \"%s\" lacks a parameter of its kind", name);
     return bad ? -1 : 0;
 }
 
@@ -141,9 +170,16 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
     const mtlx_doc *d = ctx;
     (void)msg;
     (void)msg_size;
+    const char *p;
     fprintf(f, "<?xml version=\"1.0\"?>\n");
-    fprintf(f, "<!-- brdffit %s: a fit of the glTF BRDF as MaterialX shaders (docs/cli.md) -->\n",
+    fprintf(f, "<!-- brdffit %s: a fitted material as MaterialX shaders (docs/cli.md) -->\n",
             BRDFFIT_CLI_VERSION);
+    if (d->note != NULL) {
+        fputs("<!-- ", f);
+        for (p = d->note; *p != '\0'; p++) /* no "--" inside a comment */
+            fputc(*p == '-' && p[1] == '-' ? '_' : *p, f);
+        fputs(" -->\n", f);
+    }
     fprintf(f, "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n");
     if (d->shaders & CLI_MTLX_OPENPBR) put_openpbr(f, d);
     if (d->shaders & CLI_MTLX_STANDARD) put_standard(f, d);
@@ -152,11 +188,12 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
 }
 
 int cli_mtlx_export(const char *path, const brdffit_model *model, const double *params,
-                    size_t n_channels, const char *name, unsigned shaders, char *msg,
-                    size_t msg_size)
+                    size_t n_channels, const char *name, unsigned shaders, const char *note,
+                    char *msg, size_t msg_size)
 {
     mtlx_doc d;
     if (read_doc(model, params, n_channels, &d, msg, msg_size) != 0) return -1;
+    d.note = note;
     d.shaders = shaders != 0 ? shaders : CLI_MTLX_OPENPBR;
     identifier(name, d.name, sizeof d.name);
     return cli_write_atomic(path, write_doc, &d, msg, msg_size);
