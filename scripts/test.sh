@@ -53,6 +53,7 @@ packages=(
     python3-pip
     python3-dask     # brdffit.dask and its cluster tests (tests/python)
     python3-distributed
+    chromium         # headless browser of the three.js render test (tests/export)
 )
 
 jobs=2

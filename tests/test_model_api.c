@@ -115,6 +115,8 @@ static void test_builtin_names(void **state)
         "lafortune",
         "gltf",
         "gltf-clearcoat",
+        "openpbr",
+        "openpbr-coat",
     };
     const size_t n = sizeof expected / sizeof expected[0];
     size_t i, j;
@@ -167,7 +169,9 @@ static void test_builtin_metadata(void **state)
     for (i = 0; i < brdffit_model_builtin_count(); i++) {
         brdffit_model *m = NULL;
         int seen_linear = 0;
-        if (strncmp(brdffit_model_builtin_name(i), "gltf", 4) == 0) continue; /* test_gltf_metadata */
+        if (strncmp(brdffit_model_builtin_name(i), "gltf", 4) == 0 ||
+            strncmp(brdffit_model_builtin_name(i), "openpbr", 7) == 0)
+            continue; /* test_gltf_metadata, test_openpbr_metadata */
         assert_int_equal(brdffit_model_create(&m, brdffit_model_builtin_name(i), NULL, NULL),
                          BRDFFIT_OK);
         for (k = 0; k < brdffit_model_param_count(m); k++) {
@@ -202,6 +206,47 @@ static void test_builtin_metadata(void **state)
         }
         assert_true(seen_linear);
         assert_null(brdffit_model_param(m, brdffit_model_param_count(m)));
+        brdffit_model_destroy(m);
+    }
+}
+
+/* The OpenPBR models: OpenPBR Surface 1.1's own names and ranges
+ * (roughnesses floored at 0.01 as glTF's, specular_ior 1.1 .. 3), shapes
+ * first, base_color per channel but not LINEAR; openpbr-coat adds the
+ * coat's weight and roughness and holds specular_ior at 1.5. */
+static void test_openpbr_metadata(void **state)
+{
+    static const struct {
+        const char *name;
+        unsigned flags;
+        double lower, upper, start;
+    } want[] = {
+        {"specular_roughness", BRDFFIT_PARAM_LOG_SCALE, 0.01, 1.0, 0.5},
+        {"base_metalness", 0, 0.0, 1.0, 0.5},
+        {"specular_ior", 0, 1.1, 3.0, 1.5},
+        {"coat_weight", BRDFFIT_PARAM_LOG_SCALE, 0.01, 1.0, 0.5},
+        {"coat_roughness", BRDFFIT_PARAM_LOG_SCALE, 0.01, 1.0, 0.1},
+        {"base_color", BRDFFIT_PARAM_PER_CHANNEL, 0.0, 1.0, 0.5},
+    };
+    static const size_t plain[] = {0, 1, 2, 5}, coat[] = {0, 1, 2, 3, 4, 5};
+    brdffit_model *m = NULL;
+    size_t k, pass;
+    (void)state;
+    for (pass = 0; pass < 2; pass++) {
+        const size_t *idx = pass == 0 ? plain : coat, n = pass == 0 ? 4 : 6;
+        assert_int_equal(brdffit_model_create(&m, pass == 0 ? "openpbr" : "openpbr-coat", NULL,
+                                              NULL),
+                         BRDFFIT_OK);
+        assert_int_equal(brdffit_model_param_count(m), n);
+        for (k = 0; k < n; k++) {
+            const brdffit_param_info *p = brdffit_model_param(m, k);
+            const unsigned fixed = pass == 1 && k == 2 ? BRDFFIT_PARAM_FIXED : 0;
+            assert_string_equal(p->name, want[idx[k]].name);
+            assert_int_equal(p->flags, want[idx[k]].flags | fixed);
+            assert_true(p->lower == want[idx[k]].lower && p->upper == want[idx[k]].upper);
+            assert_true(p->start == want[idx[k]].start);
+        }
+        assert_int_equal(brdffit_model_vector_size(m, 3), n + 2);
         brdffit_model_destroy(m);
     }
 }
@@ -1054,6 +1099,7 @@ int main(void)
         cmocka_unit_test(test_create_errors),
         cmocka_unit_test(test_builtin_metadata),
         cmocka_unit_test(test_gltf_metadata),
+        cmocka_unit_test(test_openpbr_metadata),
         cmocka_unit_test(test_param_find),
         cmocka_unit_test(test_vector_layout_builtin),
         cmocka_unit_test(test_vector_layout_user),

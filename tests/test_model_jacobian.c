@@ -103,12 +103,14 @@ JACOBIAN_TEST(test_jacobian_ward_duer, "ward-duer", 12)
 JACOBIAN_TEST(test_jacobian_lafortune, "lafortune", 13)
 JACOBIAN_TEST(test_jacobian_gltf, "gltf", 14)
 JACOBIAN_TEST(test_jacobian_gltf_clearcoat, "gltf-clearcoat", 15)
+JACOBIAN_TEST(test_jacobian_openpbr, "openpbr", 16)
+JACOBIAN_TEST(test_jacobian_openpbr_coat, "openpbr-coat", 17)
 
 /* Every built-in model has a Jacobian test above. */
 static void test_jacobian_tests_cover_all_models(void **state)
 {
     (void)state;
-    assert_int_equal(brdffit_model_builtin_count(), 15);
+    assert_int_equal(brdffit_model_builtin_count(), 17);
 }
 
 /* At the bounds of the shape parameters the check's stencil is one-sided. */
@@ -138,7 +140,7 @@ static void test_jacobian_at_bounds(void **state)
 /* ---- the linear-parameter contract ------------------------------------------ */
 
 /* value = sum over LINEAR parameters of parameter * derivative, for every
- * built-in model with LINEAR parameters (all but gltf and gltf-clearcoat). */
+ * built-in model with LINEAR parameters (all but the glTF and OpenPBR ones). */
 static void test_linear_contract(void **state)
 {
     const fixture *f = *state;
@@ -151,7 +153,8 @@ static void test_linear_contract(void **state)
     for (i = 0; i < brdffit_model_builtin_count(); i++) {
         brdffit_model *m = create(brdffit_model_builtin_name(i));
         double x[32];
-        if (strncmp(brdffit_model_name(m), "gltf", 4) == 0) { /* test_gltf_affine */
+        if (strncmp(brdffit_model_name(m), "gltf", 4) == 0 ||
+            strncmp(brdffit_model_name(m), "openpbr", 7) == 0) { /* test_gltf_affine */
             brdffit_model_destroy(m);
             continue;
         }
@@ -347,6 +350,8 @@ int main(void)
         cmocka_unit_test(test_jacobian_lafortune),
         cmocka_unit_test(test_jacobian_gltf),
         cmocka_unit_test(test_jacobian_gltf_clearcoat),
+        cmocka_unit_test(test_jacobian_openpbr),
+        cmocka_unit_test(test_jacobian_openpbr_coat),
         cmocka_unit_test(test_jacobian_at_bounds),
         cmocka_unit_test(test_linear_contract),
         cmocka_unit_test(test_gltf_affine),

@@ -127,6 +127,54 @@ static double gltf_clearcoat(const double *p, const geo *g)
     return (1.0 - fc) * gltf(base, g) + fc * gltf(coat, g);
 }
 
+/* GGX with height-correlated Smith over 4 n.l n.v, alpha = r^2 (as in
+ * gltf() above). */
+static double ggx_correlated(double r, const geo *g)
+{
+    const double a2 = r * r * r * r;
+    const double q = g->nh * g->nh * (a2 - 1.0) + 1.0;
+    const double gg = 2.0 * g->nl * g->nv /
+                      (g->nv * sqrt(a2 + (1.0 - a2) * g->nl * g->nl) +
+                       g->nl * sqrt(a2 + (1.0 - a2) * g->nv * g->nv));
+    return a2 / (PI * q * q) * gg / (4.0 * g->nl * g->nv);
+}
+
+/* Unpolarised Fresnel reflectance of a dielectric from its s and p
+ * amplitude coefficients (Snell's law for the refracted cosine). */
+static double fresnel_sp(double c, double eta)
+{
+    const double ct = sqrt(1.0 - (1.0 - c * c) / (eta * eta));
+    const double rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+/* OpenPBR's base as docs/models.md writes it: mix(dielectric, metal,
+ * base_metalness), the dielectric's diffuse through both interface
+ * transmissions, the metal's Fresnel Schlick's of base_color (F82 with a
+ * white specular_color). p = specular_roughness, base_metalness,
+ * specular_ior, base_color. */
+static double openpbr(const double *p, const geo *g)
+{
+    const double spec = ggx_correlated(p[0], g), eta = p[2], b = p[3];
+    const double dielectric = fresnel_sp(g->hv, eta) * spec +
+                              (1.0 - fresnel_sp(g->nl, eta)) * (1.0 - fresnel_sp(g->nv, eta)) * b / PI;
+    return (1.0 - p[1]) * dielectric + p[1] * spec * schlick(b, g->hv);
+}
+
+/* Its coat (IOR 1.6) over the roughened base: mix(base, coat lobe +
+ * transmitted base, coat_weight). p = specular_roughness, base_metalness,
+ * specular_ior, coat_weight, coat_roughness, base_color. */
+static double openpbr_coat(const double *p, const geo *g)
+{
+    const double r = p[0], k = p[3], rc = p[4];
+    const double rough = fmin(1.0, pow(pow(r, 4.0) + 2.0 * pow(rc, 4.0), 0.25));
+    const double base_p[4] = {(1.0 - k) * r + k * rough, p[1], p[2], p[5]};
+    const double base = openpbr(base_p, g);
+    const double layer = fresnel_sp(g->hv, 1.6) * ggx_correlated(rc, g) +
+                         (1.0 - fresnel_sp(g->nl, 1.6)) * (1.0 - fresnel_sp(g->nv, 1.6)) * base;
+    return (1.0 - k) * base + k * layer;
+}
+
 static double reference(const char *name, const double *p, const geo *g)
 {
     if (strcmp(name, "lambert") == 0) return p[0] / PI;
@@ -158,6 +206,8 @@ static double reference(const char *name, const double *p, const geo *g)
     }
     if (strcmp(name, "gltf") == 0) return gltf(p, g);
     if (strcmp(name, "gltf-clearcoat") == 0) return gltf_clearcoat(p, g);
+    if (strcmp(name, "openpbr") == 0) return openpbr(p, g);
+    if (strcmp(name, "openpbr-coat") == 0) return openpbr_coat(p, g);
     fail_msg("no reference for model %s", name);
     return 0.0;
 }
@@ -247,6 +297,20 @@ static void test_normal_incidence(void **state)
          0.98 * (0.7 * (0.96 * cd / PI + 0.04 / (4.0 * PI * 0.0625)) +
                  0.3 * cd / (4.0 * PI * 0.0625)) +
              0.02 / (4.0 * PI * 0.0016)},
+        /* ior 1.5: F0 = 0.04 at h.v = n.l = n.v = 1; the diffuse passes the
+         * interface twice, 0.96^2 = 0.9216 */
+        {"openpbr",
+         {0.5, 0.3, 1.5, cd},
+         0.7 * (0.04 / (4.0 * PI * 0.0625) + 0.9216 * cd / PI) + 0.3 * cd / (4.0 * PI * 0.0625)},
+        /* coat F0 (0.6 / 2.6)^2, weight 0.5, base roughness
+         * 0.25 + 0.5 (0.5^4 + 2 0.2^4)^(1/4) */
+        {"openpbr-coat",
+         {0.5, 0.3, 1.5, 0.5, 0.2, cd},
+         0.5 * pow(0.6 / 2.6, 2.0) / (4.0 * PI * 0.0016) +
+             (0.5 + 0.5 * pow(1.0 - pow(0.6 / 2.6, 2.0), 2.0)) *
+                 (0.7 * (0.04 / (4.0 * PI * pow(0.25 + 0.5 * pow(0.0657, 0.25), 4.0)) +
+                         0.9216 * cd / PI) +
+                  0.3 * cd / (4.0 * PI * pow(0.25 + 0.5 * pow(0.0657, 0.25), 4.0)))},
     };
     size_t i;
     (void)state;
@@ -366,6 +430,11 @@ static const model_case model_cases[] = {
     {"gltf", {{0.5, 0.0, 0.8}, {0.15, 1.0, 0.9}, {0.9, 0.4, 0.3}}},
     {"gltf-clearcoat",
      {{0.5, 0.0, 1.0, 0.05, 0.8}, {0.15, 1.0, 0.3, 0.4, 0.9}, {0.9, 0.4, 0.7, 0.02, 0.3}}},
+    {"openpbr", {{0.5, 0.0, 1.5, 0.8}, {0.15, 1.0, 2.0, 0.9}, {0.9, 0.4, 1.2, 0.3}}},
+    {"openpbr-coat",
+     {{0.5, 0.0, 1.5, 1.0, 0.05, 0.8},
+      {0.15, 1.0, 1.5, 0.3, 0.4, 0.9},
+      {0.9, 0.4, 2.2, 0.7, 0.02, 0.3}}},
 };
 
 static void test_reference_formulas(void **state)

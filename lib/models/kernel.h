@@ -65,6 +65,16 @@ static inline double bf_max(double a, double b)
     return a > b ? a : b;
 }
 
+/* The GGX lobe of glTF's BRDF at one sample (kernel_gltf.c), shared with
+ * the OpenPBR models (kernel_openpbr.c): S = D Vis with GGX D and
+ * height-correlated Smith Vis, alpha = roughness^2; dS/d(roughness); and
+ * Schlick's (1 - h.v)^5. */
+typedef struct bf_ggx_lobe {
+    double s, ds, f5;
+} bf_ggx_lobe;
+
+bf_ggx_lobe bf_ggx_shape(double nl, double nv, double nh, double hv, double roughness);
+
 /* Parameter ranges shared by the built-in models. */
 #define BF_EXP_LO 1e-3
 #define BF_EXP_HI 1e6
@@ -92,5 +102,9 @@ extern const bf_builtin bf_builtin_lafortune;
 /* kernel_gltf.c */
 extern const bf_builtin bf_builtin_gltf;
 extern const bf_builtin bf_builtin_gltf_clearcoat;
+
+/* kernel_openpbr.c */
+extern const bf_builtin bf_builtin_openpbr;
+extern const bf_builtin bf_builtin_openpbr_coat;
 
 #endif /* BRDFFIT_MODELS_KERNEL_H */

@@ -32,17 +32,12 @@
  * lobe. */
 #define GLTF_COAT_LO 1e-2
 
-/* Shape terms of one sample: S = D Vis, dS/d(roughness), (1 - h.v)^5. */
-typedef struct gltf_lobe {
-    double s, ds, f5;
-} gltf_lobe;
-
 /* D = a2 / (pi q^2), q = (n.h)^2 (a2 - 1) + 1 written as
  * (1 - nh^2) + a2 nh^2 (no cancellation; q >= min(1, a2)), and
  * Vis = 1 / (2 (nv g_l + nl g_v)), g_w = sqrt(a2 + (1 - a2) (n.w)^2).
  * With a = alpha: dD/da = D (2/a - 4 a nh^2 / q), dg_w/da = a (1 - nw^2) / g_w,
  * dVis/da = -2 Vis^2 (nv dg_l + nl dg_v); d/d(roughness) = 2 r d/da. */
-static gltf_lobe gltf_shape(double nl, double nv, double nh, double hv, double r)
+bf_ggx_lobe bf_ggx_shape(double nl, double nv, double nh, double hv, double r)
 {
     const double a = r * r, a2 = a * a, nh2 = nh * nh;
     const double iq = 1.0 / ((1.0 - nh) * (1.0 + nh) + a2 * nh2);
@@ -53,7 +48,7 @@ static gltf_lobe gltf_shape(double nl, double nv, double nh, double hv, double r
     const double vis = 0.5 / (nv * gl + nl * gv);
     const double dvis = -2.0 * vis * vis * (nv * dgl + nl * dgv);
     const double x = 1.0 - hv, x2 = x * x;
-    gltf_lobe o;
+    bf_ggx_lobe o;
     o.s = d * vis;
     o.ds = (dd * vis + d * dvis) * 2.0 * r;
     o.f5 = x2 * x2 * x;
@@ -63,7 +58,7 @@ static gltf_lobe gltf_shape(double nl, double nv, double nh, double hv, double r
 /* One channel of one sample: f = b A + S W with
  * A = (1 - m)(1 - Fd) / pi + m S (1 - f5)   (= df/db),
  * W = (1 - m) Fd + m f5,  Fd = F0 + (1 - F0) f5. */
-static void gltf_channel(const gltf_lobe *g, double m, double b, double *f, double *df_dr,
+static void gltf_channel(const bf_ggx_lobe *g, double m, double b, double *f, double *df_dr,
                          double *df_dm, double *df_db)
 {
     const double fd = GLTF_F0 + (1.0 - GLTF_F0) * g->f5;
@@ -85,7 +80,7 @@ static brdffit_status gltf_eval(const brdffit_batch *batch, const double *params
     size_t s, c;
     (void)user;
     for (s = 0; s < n; s++) {
-        const gltf_lobe g = gltf_shape(batch->nl[s], batch->nv[s], batch->nh[s], batch->hv[s], r);
+        const bf_ggx_lobe g = bf_ggx_shape(batch->nl[s], batch->nv[s], batch->nh[s], batch->hv[s], r);
         for (c = 0; c < nc; c++) {
             double f, dr, dm, db;
             gltf_channel(&g, m, params[2 + c], &f, &dr, &dm, &db);
@@ -115,7 +110,7 @@ static brdffit_status gltf_coat_eval(const brdffit_batch *batch, const double *p
     (void)user;
     for (s = 0; s < n; s++) {
         const double nl = batch->nl[s], nv = batch->nv[s], nh = batch->nh[s], hv = batch->hv[s];
-        const gltf_lobe g = gltf_shape(nl, nv, nh, hv, r), coat = gltf_shape(nl, nv, nh, hv, rc);
+        const bf_ggx_lobe g = bf_ggx_shape(nl, nv, nh, hv, r), coat = bf_ggx_shape(nl, nv, nh, hv, rc);
         const double x = 1.0 - nv, x2 = x * x;
         const double fc = GLTF_F0 + (1.0 - GLTF_F0) * x2 * x2 * x, t = 1.0 - k * fc;
         for (c = 0; c < nc; c++) {

@@ -21,6 +21,8 @@ static const bf_builtin *const builtins[] = {
     &bf_builtin_lafortune,
     &bf_builtin_gltf,
     &bf_builtin_gltf_clearcoat,
+    &bf_builtin_openpbr,
+    &bf_builtin_openpbr_coat,
 };
 
 enum { BF_N_BUILTINS = sizeof builtins / sizeof builtins[0] };

@@ -6,7 +6,7 @@
 // MODULE_DIR is the node_modules folder that holds @needle-tools/materialx.
 // For every file: read it, bind it to the standard data libraries,
 // Document.validate(), resolve every node's node definition, and generate
-// the ESSL shader of its renderable element. Exits 0 when every file
+// the ESSL shader of every surfacematerial. Exits 0 when every file
 // passes, 1 when one fails, 2 when the library cannot be loaded.
 import { createRequire } from 'module';
 import fs from 'fs';
@@ -34,14 +34,18 @@ async function check(mx, gen, ctx, stdlib, file) {
     if (!doc.validate(msg)) return `invalid: ${(msg.message || '').trim()}`;
     for (const node of doc.getNodes())
         if (!node.getNodeDef()) return `node ${node.getName()} (${node.getCategory()}) has no definition`;
-    const elem = mx.findRenderableElement(doc);
-    if (!elem) return 'no renderable element';
-    const shader = gen.generate(elem.getNamePath(), elem, ctx);
-    const pixel = shader.getSourceCode('pixel');
+    const materials = doc.getNodes().filter((n) => n.getCategory() === 'surfacematerial');
+    if (materials.length === 0) return 'no renderable element';
+    const shaders = [];
+    for (const elem of materials) {
+        const pixel = gen.generate(elem.getNamePath(), elem, ctx).getSourceCode('pixel');
+        if (!(pixel.length > 0)) return `empty shader for ${elem.getNamePath()}`;
+        shaders.push(`${elem.getNamePath()}: ${pixel.length} characters`);
+    }
     const defs = doc.getNodes().map((n) => n.getNodeDef().getName()).join(', ');
-    console.log(`${file}: valid; ${defs}; ESSL pixel shader of ${elem.getNamePath()}: ` +
-                `${pixel.length} characters (MaterialX ${mx.getVersionString()})`);
-    return pixel.length > 0 ? null : 'empty shader';
+    console.log(`${file}: valid; ${defs}; ESSL pixel shaders of ${shaders.join(', ')} ` +
+                `(MaterialX ${mx.getVersionString()})`);
+    return null;
 }
 
 async function main() {

@@ -46,10 +46,13 @@ static const char fit_help[] =
     "  --strict              a fit with warnings (parameter at a bound, albedo\n"
     "                        above 1, iteration limit, ...) counts as failed\n"
     "  --gltf OUT.gltf       write the fitted material on a sphere as a glTF 2.0\n"
-    "                        asset (needs --model gltf or gltf-clearcoat; %s as\n"
-    "                        for --preview)\n"
-    "  --mtlx OUT.mtlx       write the same material as a MaterialX document with\n"
-    "                        an open_pbr_surface (same models; %s as for --preview)\n"
+    "                        asset (%s as for --preview); other models than gltf\n"
+    "                        and gltf-clearcoat are refitted with one of them\n"
+    "  --mtlx OUT.mtlx       write the material as a MaterialX document with an\n"
+    "                        open_pbr_surface (%s likewise); other models than the\n"
+    "                        glTF and OpenPBR ones are refitted with openpbr(-coat)\n"
+    "  --mtlx-shader S       the MaterialX shader: open_pbr_surface (default),\n"
+    "                        standard_surface, or both\n"
     "\n"
     "Warnings about a fit go to standard error, and into the summary and JSON.\n"
     "Exit status: 0 when every file was fitted, 1 when some failed (or, with\n"
@@ -62,7 +65,7 @@ typedef struct fit_opts {
     brdffit_pipeline pipeline;
     brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
-    unsigned weighting;
+    unsigned weighting, mtlx_shaders;
     size_t threads, max_iterations;
     int json, strict;
 } fit_opts;
@@ -222,25 +225,55 @@ static void write_preview(const brdffit_grid *grid, const fit_run *run, fit_resu
     free(name);
 }
 
-/* --gltf or --mtlx (`mtlx`): the file named by `pattern` for this input. */
-static void write_export(const fit_run *run, fit_result *r, const char *pattern, int mtlx)
+/* The note of a refit export, on standard error (one line) and in the file. */
+static void refit_note(const fit_run *run, const fit_result *r, const cli_refit *rf, int mtlx,
+                       char *note, size_t size)
 {
-    char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300], base[128];
+    cli_format(note, size,
+               "the %s export holds %s refitted to the data (auto, e %.6g, E %.6g): the "
+               "fitted model %s is not %s",
+               mtlx ? "MaterialX" : "glTF", brdffit_model_name(rf->model), rf->rms, rf->ngan,
+               brdffit_model_name(run->model), mtlx ? "a MaterialX shader's BRDF" : "glTF's BRDF");
+    fprintf(stderr, "brdffit: %s: note: %s\n", r->path, note);
+}
+
+/* --gltf or --mtlx (`mtlx`): the file named by `pattern` for this input;
+ * a model that is not the export's own is refitted first (export_refit.c). */
+static void write_export(const fit_run *run, const brdffit_grid *grid, const brdffit_fit *fit,
+                         fit_result *r, const char *pattern, int mtlx)
+{
+    char msg[CLI_MSG_SIZE], full[CLI_MSG_SIZE + 300], base[128], note[CLI_MSG_SIZE];
     char *name = cli_preview_name(pattern, r->path);
     const char *what = mtlx ? "MaterialX" : "glTF";
-    int rc;
+    const brdffit_model *model = run->model;
+    const double *params = r->params;
+    cli_refit rf = {NULL, NULL, 0.0, 0.0};
+    int rc = 0, refit = !cli_export_native(brdffit_model_name(model), mtlx);
     cli_base_name(r->path, base, sizeof base);
     if (name == NULL) {
         cli_format(full, sizeof full, "%s: out of memory", what);
         fail(r, BRDFFIT_E_OUT_OF_MEMORY, full);
         return;
     }
-    rc = mtlx ? cli_mtlx_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg)
-              : cli_gltf_export(name, run->model, r->params, r->n_channels, base, msg, sizeof msg);
+    if (refit) {
+        rc = cli_export_refit(grid, fit, cli_export_target(brdffit_model_name(model), mtlx), &rf,
+                              msg, sizeof msg);
+        if (rc == 0) {
+            refit_note(run, r, &rf, mtlx, note, sizeof note);
+            model = rf.model;
+            params = rf.params;
+        }
+    }
+    if (rc == 0)
+        rc = mtlx ? cli_mtlx_export(name, model, params, r->n_channels, base,
+                                    run->opts->mtlx_shaders, refit ? note : NULL, msg, sizeof msg)
+                  : cli_gltf_export(name, model, params, r->n_channels, base, refit ? note : NULL,
+                                    msg, sizeof msg);
     if (rc != 0) {
         cli_format(full, sizeof full, "%s %s: %s", what, name, msg);
         fail(r, BRDFFIT_E_IO, full);
     }
+    cli_refit_free(&rf);
     free(name);
 }
 
@@ -270,8 +303,10 @@ static void fit_one(const fit_run *run, fit_result *r)
             fail(r, st, brdffit_fit_message(fit));
         else if (collect(fit, run, r) == 0 && (run->opts->preview != NULL || run->opts->report != NULL))
             write_preview(grid, run, r);
-        if (r->fitted && run->opts->gltf != NULL) write_export(run, r, run->opts->gltf, 0);
-        if (r->fitted && run->opts->mtlx != NULL) write_export(run, r, run->opts->mtlx, 1);
+        if (r->fitted && run->opts->gltf != NULL)
+            write_export(run, grid, fit, r, run->opts->gltf, 0);
+        if (r->fitted && run->opts->mtlx != NULL)
+            write_export(run, grid, fit, r, run->opts->mtlx, 1);
     }
     brdffit_fit_destroy(fit);
     brdffit_grid_destroy(grid);
@@ -436,6 +471,16 @@ static int option_value(fit_opts *o, const char *name, const char *value)
     else if (strcmp(name, "damping") == 0) {
         if (!cli_parse_damping(value, &o->damping))
             return cli_usage_error("fit", "--damping is nielsen, marquardt or thesis");
+    } else if (strcmp(name, "mtlx-shader") == 0) {
+        if (strcmp(value, "open_pbr_surface") == 0)
+            o->mtlx_shaders = CLI_MTLX_OPENPBR;
+        else if (strcmp(value, "standard_surface") == 0)
+            o->mtlx_shaders = CLI_MTLX_STANDARD;
+        else if (strcmp(value, "both") == 0)
+            o->mtlx_shaders = CLI_MTLX_OPENPBR | CLI_MTLX_STANDARD;
+        else
+            return cli_usage_error("fit", "--mtlx-shader is open_pbr_surface, standard_surface "
+                                          "or both");
     } else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
@@ -491,7 +536,8 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
                                          {"objective", 1}, {"report", 1},  {"fix", 1},
-                                         {"free", 1},      {"damping", 1}, {NULL, 0}};
+                                         {"free", 1},      {"damping", 1}, {"mtlx-shader", 1},
+                                         {NULL, 0}};
     cli_args a;
     const char *name, *value;
     int r, n_files = 0;
@@ -531,12 +577,6 @@ static int check_options(const fit_opts *o, char **files, int n_files)
                                       "cairo");
     if (o->report != NULL && n_files > 1 && strstr(o->report, "%s") == NULL)
         return cli_usage_error("fit", "--report with several files needs %%s in its name");
-    if ((o->gltf != NULL || o->mtlx != NULL) && !cli_gltf_exportable(o->model_name))
-        return cli_usage_error("fit",
-                               "--%s exports the glTF BRDF itself: fit with --model %s or %s "
-                               "(\"%s\" is not the glTF BRDF, and brdffit does not convert it)",
-                               o->gltf != NULL ? "gltf" : "mtlx", CLI_GLTF_MODEL,
-                               CLI_GLTF_COAT_MODEL, o->model_name);
     if (o->gltf != NULL && n_files > 1 && strstr(o->gltf, "%s") == NULL)
         return cli_usage_error("fit", "--gltf with several files needs %%s in its name");
     if (o->mtlx != NULL && n_files > 1 && strstr(o->mtlx, "%s") == NULL)

@@ -42,7 +42,7 @@ typedef struct sphere {
 typedef struct gltf_doc {
     const material *mat;
     const sphere *s;
-    const char *name;
+    const char *name, *note; /* note: NULL, or the material's extras.brdffit */
 } gltf_doc;
 
 /* --- the material from the fitted vector ------------------------------------ */
@@ -199,8 +199,8 @@ static void put_vec3(FILE *f, const float v[3])
     fprintf(f, "[%.9g, %.9g, %.9g]", (double)v[0], (double)v[1], (double)v[2]);
 }
 
-/* `name` is the JSON string literal of the material's name. */
-static void put_material(FILE *f, const gltf_doc *d, const char *name)
+/* `name` and `note` are JSON string literals (note NULL: none). */
+static void put_material(FILE *f, const gltf_doc *d, const char *name, const char *note)
 {
     fprintf(f, "  \"materials\": [{\"name\": %s, \"pbrMetallicRoughness\": {", name);
     fprintf(f, "\"baseColorFactor\": [%.17g, %.17g, %.17g, 1], ", d->mat->base[0], d->mat->base[1],
@@ -212,6 +212,7 @@ static void put_material(FILE *f, const gltf_doc *d, const char *name)
                 ", \"extensions\": {\"KHR_materials_clearcoat\": {\"clearcoatFactor\": %.17g, "
                 "\"clearcoatRoughnessFactor\": %.17g}}",
                 d->mat->clearcoat, d->mat->clearcoat_roughness);
+    if (note != NULL) fprintf(f, ", \"extras\": {\"brdffit\": %s}", note);
     fprintf(f, "}],\n");
     fprintf(f, "  \"nodes\": [{\"name\": %s, \"mesh\": 0}],\n", name);
 }
@@ -247,12 +248,15 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
 {
     const gltf_doc *d = ctx;
     unsigned char *bytes = malloc(BUFFER_BYTES);
-    cli_buf name;
+    cli_buf name, note;
     cli_buf_init(&name);
+    cli_buf_init(&note);
     cli_buf_json_string(&name, d->name);
-    if (bytes == NULL || name.failed) {
+    if (d->note != NULL) cli_buf_json_string(&note, d->note);
+    if (bytes == NULL || name.failed || note.failed) {
         free(bytes);
         cli_buf_free(&name);
+        cli_buf_free(&note);
         cli_format(msg, msg_size, "out of memory");
         return -1;
     }
@@ -261,7 +265,7 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
             BRDFFIT_CLI_VERSION);
     if (d->mat->coated) fprintf(f, "  \"extensionsUsed\": [\"KHR_materials_clearcoat\"],\n");
     fprintf(f, "  \"scene\": 0,\n  \"scenes\": [{\"nodes\": [0]}],\n");
-    put_material(f, d, name.data);
+    put_material(f, d, name.data, d->note != NULL ? note.data : NULL);
     fprintf(f,
             "  \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, "
             "\"NORMAL\": 1}, \"indices\": 2, \"material\": 0, \"mode\": %d}]}],\n",
@@ -275,11 +279,13 @@ static int write_doc(FILE *f, void *ctx, char *msg, size_t msg_size)
     fprintf(f, "\"}]\n}\n");
     free(bytes);
     cli_buf_free(&name);
+    cli_buf_free(&note);
     return 0;
 }
 
 int cli_gltf_export(const char *path, const brdffit_model *model, const double *params,
-                    size_t n_channels, const char *name, char *msg, size_t msg_size)
+                    size_t n_channels, const char *name, const char *note, char *msg,
+                    size_t msg_size)
 {
     material m;
     gltf_doc d;
@@ -296,6 +302,7 @@ int cli_gltf_export(const char *path, const brdffit_model *model, const double *
     d.mat = &m;
     d.s = s;
     d.name = name;
+    d.note = note;
     rc = cli_write_atomic(path, write_doc, &d, msg, msg_size);
     free(s);
     return rc;
