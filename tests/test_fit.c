@@ -567,6 +567,67 @@ static void test_user_model_domain_error(void **state)
     brdffit_model_destroy(model);
 }
 
+/* Six scanned shape parameters (the lobe's exponent split into six
+ * factors' sum): the auto scan's grid shrinks to fit its budget however
+ * many dimensions it has (five or more used to loop for ever) and the fit
+ * reaches the exact data's zero cost. */
+static brdffit_status gauss6_eval(const brdffit_batch *b, const double *p, size_t nc,
+                                  double *values, double *jac, void *user)
+{
+    size_t s, c, j, n = b->n;
+    double k = p[0] + p[1] + p[2] + p[3] + p[4] + p[5];
+    (void)user;
+    for (s = 0; s < n; s++) {
+        double e = exp(-k * (1.0 - b->nh[s]));
+        for (c = 0; c < nc; c++) {
+            double cd = p[6 + c], cs = p[6 + nc + c];
+            values[c * n + s] = cd / 3.14159265358979323846 + cs * e;
+            if (jac == NULL) continue;
+            for (j = 0; j < 6; j++) jac[(j * nc + c) * n + s] = -cs * (1.0 - b->nh[s]) * e;
+            jac[(6 * nc + c) * n + s] = 1.0 / 3.14159265358979323846;
+            jac[(7 * nc + c) * n + s] = e;
+        }
+    }
+    return BRDFFIT_OK;
+}
+
+static void test_many_scan_dimensions(void **state)
+{
+    static const brdffit_param_info params[] = {
+        {"k1", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"k2", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"k3", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"k4", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"k5", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"k6", BRDFFIT_PARAM_LOG_SCALE, 1.0, 1e3, 10.0},
+        {"cd", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
+        {"cs", BRDFFIT_PARAM_PER_CHANNEL | BRDFFIT_PARAM_LINEAR, 0.0, HUGE_VAL, 0.1},
+    };
+    const double v[8][8] = {{60.0}, {60.0}, {60.0}, {60.0}, {60.0}, {60.0}, CD, CS};
+    brdffit_model_def def = BRDFFIT_MODEL_DEF_INIT;
+    brdffit_model *model = NULL;
+    double truth_p[MAXV], cost = 1.0;
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    (void)state;
+    def.name = "gauss6";
+    def.n_params = 8;
+    def.params = params;
+    def.eval = gauss6_eval;
+    assert_int_equal(brdffit_model_create_custom(&model, &def, NULL, NULL), BRDFFIT_OK);
+    fx_vector(model, 3, v, truth_p);
+    grid = fx_grid_from_model(model, truth_p, 3, NULL, 0.0, 1);
+    assert_non_null(grid);
+    fit = make_fit(grid, model);
+    run_ok(fit);
+    assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &cost),
+                     BRDFFIT_OK);
+    assert_true(cost < 1e-14);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
 /* ---- results ------------------------------------------------------------------ */
 
 /* The error figures against the test's own sums (docs/definitions.md, Cost and error figures). */
@@ -968,6 +1029,7 @@ int main(void)
         cmocka_unit_test(test_threads_agree),
         cmocka_unit_test(test_user_model_fit),
         cmocka_unit_test(test_user_model_domain_error),
+        cmocka_unit_test(test_many_scan_dimensions),
         cmocka_unit_test(test_error_figures),
         cmocka_unit_test(test_shader_history_std_errors),
         cmocka_unit_test(test_fresnel_converges_on_mismatched_data),

@@ -40,22 +40,30 @@ static size_t find_dims(const bf_stage *st, bf_scan_dim *dims)
 /* Grid points per dimension: two per decade over a logarithmic range (a
  * profile minimum is broad in log space, and LM polishes it from anywhere
  * in its basin), eleven (one dimension) or six (several) over a linear
- * range, at most ~2000 in all. */
+ * range, at most ~2000 in all: counts fall one at a time, but none below
+ * floor(2000^(1/nd)) (at least 2), so that many dimensions end too. */
 static void choose_counts(bf_scan_dim *dims, size_t nd)
 {
-    size_t d, total;
+    size_t d, total, least = (size_t)floor(pow(2000.0, 1.0 / (double)nd) + 1e-9);
     double per_decade = 2.0;
+    int fell = 1;
+    if (least > 5) least = 5;
+    if (least < 2) least = 2;
     for (d = 0; d < nd; d++) {
         double decades = (dims[d].hi - dims[d].lo) / log(10.0);
         size_t n = dims[d].log ? (size_t)ceil(decades * per_decade) + 1 : (nd == 1 ? 11 : 6);
-        dims[d].count = n < 5 ? 5 : (n > 49 ? 49 : n);
+        dims[d].count = n < least ? least : (n > 49 ? 49 : n);
     }
-    for (;;) {
+    while (fell) {
         total = 1;
         for (d = 0; d < nd; d++) total *= dims[d].count;
         if (total <= 2000) break;
+        fell = 0;
         for (d = 0; d < nd; d++)
-            if (dims[d].count > 5) dims[d].count--;
+            if (dims[d].count > least) {
+                dims[d].count--;
+                fell = 1;
+            }
     }
 }
 
