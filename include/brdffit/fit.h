@@ -99,11 +99,12 @@ typedef enum brdffit_fit_setting {
  * The error figures e and E do not change with the objective; the cost
  * (::BRDFFIT_METRIC_COST) is the objective's sum of r^2.
  * The auto pipeline under LOG, CUBE_ROOT or RELATIVE scans the shape
- * parameters on the SQUARES profile (colours solved exactly for squared
- * values) and polishes every candidate by Levenberg-Marquardt under the
- * objective: the polish reaches the objective's local optimum nearest to the
- * squared-value global one, which need not be the objective's global
- * optimum (docs/fitting.md).
+ * parameters on the objective's own profile: at every shape point the
+ * colours solved exactly for squared values are carried to the objective's
+ * optimum by a few projected Gauss-Newton steps of the small bounded colour
+ * problem, so shapes are compared by their true objective cost; every
+ * competing minimum is then polished by Levenberg-Marquardt under the
+ * objective (docs/fitting.md).
  */
 typedef enum brdffit_objective {
     BRDFFIT_OBJECTIVE_SQUARES = 0,   /**< Weighted squares of values (the thesis's cost). */

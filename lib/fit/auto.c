@@ -7,25 +7,46 @@
 
 #include "core/core.h"
 #include "fit/pipelines.h"
+#include "fit/profile_gn.h"
 #include "fit/scan.h"
 #include "fit/varpro.h"
+
+/* Keep the LM run just made when it beats the best so far (cost
+ * *best_cost): its parameters, standard errors and report. `work` has
+ * 2 n doubles: the run's parameters and standard errors. */
+static brdffit_status keep_if_best(bf_stage *st, double *best_cost, const double *work)
+{
+    bf_result *r = st->run->result;
+    if (!(st->cost < *best_cost)) return BRDFFIT_OK;
+    *best_cost = st->cost;
+    memcpy(r->params, work, st->n * sizeof *work);
+    memcpy(r->std_errors, work + st->n, st->n * sizeof *work);
+    return bf_result_keep_report(r, st->opt, &st->run->fit->alloc);
+}
 
 /* Polish one candidate with LM over every free parameter; the best polish
  * so far is in the run's result (cost *best_cost). `work` has 3 n doubles. */
 static brdffit_status polish(bf_stage *st, const bf_scan *sc, const bf_candidate *c,
                              double *best_cost, double *work)
 {
-    bf_result *r = st->run->result;
-    double cost, *start = work, *params = work + st->n, *se = work + 2 * st->n;
+    double cost, *start = work + 2 * st->n;
     BF_RETURN_IF_ERROR(bf_scan_profile_at(st, sc, c->u, &cost));
     memcpy(start, st->p, st->n * sizeof *start);
-    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, params, se));
-    if (st->cost < *best_cost) {
-        *best_cost = st->cost;
-        memcpy(r->params, params, st->n * sizeof *params);
-        memcpy(r->std_errors, se, st->n * sizeof *se);
-    }
-    return BRDFFIT_OK;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    return keep_if_best(st, best_cost, work);
+}
+
+/* A best polish that made no iteration left a scan point as it was (LM
+ * found no descent from it, e.g. on a plateau where a colour grows
+ * without bound): one more polish from the model's start values, so the
+ * result is never an unpolished scan point when a descent exists. */
+static brdffit_status repolish(bf_stage *st, double *best_cost, double *work)
+{
+    const bf_result *r = st->run->result;
+    if (r->iterations > 0 || r->stop != BRDFFIT_STOP_STALLED || st->run->cancelled)
+        return BRDFFIT_OK;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
+    return keep_if_best(st, best_cost, work);
 }
 
 /* A cancel during the scan: the best point seen so far, unpolished. */
@@ -36,6 +57,7 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
     if (sc->n_best == 0) memcpy(st->p, st->base, st->n * sizeof *st->p);
     else bf_scan_set_point(st, sc, sc->best[0].u);
     BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
     memcpy(r->params, st->p, st->n * sizeof *r->params);
     memset(r->std_errors, 0, st->n * sizeof *r->std_errors);
     return BRDFFIT_OK;
@@ -59,6 +81,7 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (i = 0; i < n_polish && status == BRDFFIT_OK && !st->run->cancelled; i++)
         status = polish(st, sc, &sc->best[i], &best_cost, work);
+    if (status == BRDFFIT_OK && best_cost < HUGE_VAL) status = repolish(st, &best_cost, work);
     if (status == BRDFFIT_OK && !(best_cost < HUGE_VAL))
         status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
     bf_free(a, work);
@@ -94,8 +117,9 @@ brdffit_status bf_pipeline_auto(bf_run *run)
     if (status != BRDFFIT_OK) return status;
     status = bf_scan_run(&st, &sc);
     if (status == BRDFFIT_OK) status = polish_all(&st, &sc);
-    if (status == BRDFFIT_OK) status = bf_result_keep_report(run->result, st.opt, &run->fit->alloc);
-    else status = auto_fail(&st, status);
+    if (status == BRDFFIT_OK && st.opt == NULL) /* cancelled before any LM run */
+        status = bf_result_keep_report(run->result, NULL, &run->fit->alloc);
+    if (status != BRDFFIT_OK) status = auto_fail(&st, status);
     bf_stage_free(&st);
     return status;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/profile_gn.h"
 #include "fit/varpro.h"
 
 /* Scan coordinates of a shared, free, non-linear parameter's range. */
@@ -81,7 +82,8 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
-    return bf_varpro_profile(st, cost);
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, cost));
+    return bf_profile_gn(st, cost); /* the objective's cost, not the squares' */
 }
 
 /* Keep the best BF_MAX_CANDIDATES local minima, best first. */
