@@ -7,6 +7,7 @@
 
 #include "core/core.h"
 #include "fit/pipelines.h"
+#include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/scan.h"
 #include "fit/varpro.h"
@@ -24,15 +25,46 @@ static brdffit_status keep_if_best(bf_stage *st, double *best_cost, const double
     return bf_result_keep_report(r, st->opt, &st->run->fit->alloc);
 }
 
+/* Plausibility: the colours' bounds at the polished shape (work, n
+ * doubles, then its standard errors), polished again from there while the
+ * result breaks them, at most BF_REBOUNDS times; then clamped to them. */
+#define BF_REBOUNDS 4
+static brdffit_status rebound(bf_stage *st, double *work)
+{
+    double *start = work + 2 * st->n;
+    int i;
+    for (i = 0; i < BF_REBOUNDS && !st->run->cancelled; i++) {
+        memcpy(st->p, work, st->n * sizeof *st->p);
+        BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1));
+        if (bf_plausible_within(st, work)) break;
+        memcpy(start, work, st->n * sizeof *start);
+        BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    }
+    if (i < BF_REBOUNDS || st->run->cancelled) return BRDFFIT_OK;
+    /* still creeping over: the colours clamped to the bounds at the final
+     * shape, a plausible point, and its cost */
+    memcpy(st->p, work, st->n * sizeof *st->p);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1));
+    bf_plausible_clamp(st, work);
+    memcpy(st->p, work, st->n * sizeof *st->p);
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+    st->cost = st->acc[0];
+    return BRDFFIT_OK;
+}
+
 /* Polish one candidate with LM over every free parameter; the best polish
  * so far is in the run's result (cost *best_cost). `work` has 3 n doubles. */
 static brdffit_status polish(bf_stage *st, const bf_scan *sc, const bf_candidate *c,
                              double *best_cost, double *work)
 {
     double cost, *start = work + 2 * st->n;
-    BF_RETURN_IF_ERROR(bf_scan_profile_at(st, sc, c->u, &cost));
+    bf_scan_set_point(st, sc, c->u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1)); /* every bound at the candidate's shape */
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
     memcpy(start, st->p, st->n * sizeof *start);
     BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    BF_RETURN_IF_ERROR(rebound(st, work));
     return keep_if_best(st, best_cost, work);
 }
 
@@ -56,6 +88,7 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
     double cost;
     if (sc->n_best == 0) memcpy(st->p, st->base, st->n * sizeof *st->p);
     else bf_scan_set_point(st, sc, sc->best[0].u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0));
     BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
     BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
     memcpy(r->params, st->p, st->n * sizeof *r->params);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/varpro.h"
 
@@ -82,6 +83,7 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
     BF_RETURN_IF_ERROR(bf_varpro_profile(st, cost));
     return bf_profile_gn(st, cost); /* the objective's cost, not the squares' */
 }
