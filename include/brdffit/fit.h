@@ -343,6 +343,12 @@ BRDFFIT_API size_t brdffit_fit_passes(const brdffit_fit *fit);
  *   degrees were expected look like this.
  * - ::BRDFFIT_WARN_STALLED: the final optimizer run ended with
  *   ::BRDFFIT_STOP_STALLED, at a point that is not converged.
+ * - ::BRDFFIT_WARN_NO_BETTER_THAN_MEAN: the fit is no better than the
+ *   best constant value of each channel: under the squares objective in
+ *   the cost it minimised; under the others in both Ngan's measure (the
+ *   numerator of ::BRDFFIT_METRIC_NGAN) and the plain sum of squares
+ *   (::BRDFFIT_METRIC_RMS squared), summed over channels. The model then
+ *   explains nothing of the data's variation.
  */
 typedef enum brdffit_warning {
     BRDFFIT_WARN_AT_BOUND = 1,             /**< A free shape parameter on a bound. */
@@ -353,7 +359,8 @@ typedef enum brdffit_warning {
     BRDFFIT_WARN_STOPPED_EARLY = 32,       /**< Cancelled or stopped by the callback. */
     BRDFFIT_WARN_LOBES_MERGED = 64,        /**< Two lobes that are one. */
     BRDFFIT_WARN_DEGREES_AS_RADIANS = 128, /**< Angles that look like radians read as degrees. */
-    BRDFFIT_WARN_STALLED = 256             /**< The final LM run stalled (::BRDFFIT_STOP_STALLED). */
+    BRDFFIT_WARN_STALLED = 256,            /**< The final LM run stalled (::BRDFFIT_STOP_STALLED). */
+    BRDFFIT_WARN_NO_BETTER_THAN_MEAN = 512 /**< The fit's error E is no smaller than a constant's. */
 } brdffit_warning;
 
 /**
@@ -387,7 +394,8 @@ BRDFFIT_API brdffit_status brdffit_fit_warning_text(const brdffit_fit *fit, unsi
 /**
  * @brief The short name of one warning bit ("at-bound", "no-diffuse",
  *        "albedo-above-1", "fresnel-valley", "iteration-limit",
- *        "stopped-early", "lobes-merged", "radians-as-degrees", "stalled"), as the
+ *        "stopped-early", "lobes-merged", "radians-as-degrees", "stalled",
+ *        "no-better-than-mean"), as the
  *        command's JSON output uses them; NULL unless @p warning is exactly
  *        one known bit. The strings are static. Thread-safe.
  */
