@@ -94,6 +94,8 @@ static unsigned warnings_of(brdffit_fit **out, const brdffit_grid *grid,
     brdffit_fit *fit = NULL;
     assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pipeline), BRDFFIT_OK);
+    /* the verdict on the cost's own optimum: plausibility would hide an albedo above 1 */
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 0), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
     *out = fit;
     return brdffit_fit_warnings(fit);
@@ -359,7 +361,7 @@ static void test_bad_calls(void **state)
     assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_ALBEDO | BRDFFIT_WARN_AT_BOUND,
                                               text, sizeof text),
                      BRDFFIT_E_INVALID_ARGUMENT);
-    assert_int_equal(brdffit_fit_warning_text(fit, 512, text, sizeof text),
+    assert_int_equal(brdffit_fit_warning_text(fit, 1024, text, sizeof text),
                      BRDFFIT_E_INVALID_ARGUMENT);
     assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_ALBEDO, NULL, 8),
                      BRDFFIT_E_INVALID_ARGUMENT);
@@ -373,23 +375,101 @@ static void test_bad_calls(void **state)
     brdffit_model_destroy(model);
 }
 
+/* A Lambertian fit whose colour is held far below the data explains less
+ * than each channel's mean: the warning, with its text; the data's own
+ * model has none. */
+static void test_no_better_than_mean(void **state)
+{
+    static const double v[4][8] = {{60.0}, CD, CS};
+    brdffit_model *as = make_model("ashikhmin-shirley"), *model = make_model("lambert");
+    brdffit_grid *grid = grid_of(as, v, NULL);
+    brdffit_fit *fit = NULL;
+    double start[3] = {1e-4, 1e-4, 1e-4};
+    char text[256];
+    (void)state;
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set_start(fit, start), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set_fixed(fit, 0, 1), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+    assert_true(brdffit_fit_warnings(fit) & BRDFFIT_WARN_NO_BETTER_THAN_MEAN);
+    assert_int_equal(
+        brdffit_fit_warning_text(fit, BRDFFIT_WARN_NO_BETTER_THAN_MEAN, text, sizeof text),
+        BRDFFIT_OK);
+    assert_non_null(strstr(text, "best constant"));
+    brdffit_fit_destroy(fit);
+    /* the data's own model explains them */
+    assert_int_equal(brdffit_fit_create(&fit, grid, as, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_warnings(fit) & BRDFFIT_WARN_NO_BETTER_THAN_MEAN, 0);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+    brdffit_model_destroy(as);
+}
+
+/* Two-lobe results come sharper lobe first, whichever order the data's
+ * parameters or the start values have: ggx-2 data with the broad lobe
+ * first give a1 < a2 with each lobe's colour; ashikhmin-shirley-2 gives
+ * ns1 > ns2. */
+static void check_order(const char *name, const double v[][8], size_t pipeline, int larger)
+{
+    brdffit_model *model = make_model(name);
+    brdffit_grid *grid = grid_of(model, v, NULL);
+    brdffit_fit *fit = NULL;
+    size_t n = brdffit_model_param_count(model), cs1 = n - 2, c;
+    double p[MAXV];
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)pipeline), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 0), BRDFFIT_OK);
+    if (pipeline == BRDFFIT_PIPELINE_JOINT) { /* start at the data's own order */
+        fx_vector(model, 3, v, p);
+        assert_int_equal(brdffit_fit_set_start(fit, p), BRDFFIT_OK);
+    }
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_params(fit, p), BRDFFIT_OK);
+    printf("%s pipeline %zu: x1 %g x2 %g\n", name, pipeline, p[0], p[1]);
+    assert_close(p[0] / v[1][0], 1.0, 1e-4); /* lobe 2 of the data is the sharper */
+    assert_close(p[1] / v[0][0], 1.0, 1e-4);
+    assert_true(larger ? p[0] > p[1] : p[0] < p[1]);
+    for (c = 0; c < 3; c++) {
+        assert_close(p[brdffit_model_vector_index(model, cs1, c, 3)] / v[cs1 + 1][c], 1.0, 1e-4);
+        assert_close(p[brdffit_model_vector_index(model, cs1 + 1, c, 3)] / v[cs1][c], 1.0, 1e-4);
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
+static void test_lobe_order(void **state)
+{
+    static const double ggx[6][8] = {{0.4}, {0.08}, {0.04}, CD, {0.5, 0.4, 0.3}, {2.0, 1.5, 1.0}};
+    static const double as[5][8] = {{20.0}, {400.0}, CD, {0.3, 0.2, 0.1}, {0.5, 0.4, 0.3}};
+    (void)state;
+    check_order("ggx-2", ggx, BRDFFIT_PIPELINE_AUTO, 0);
+    check_order("ggx-2", ggx, BRDFFIT_PIPELINE_JOINT, 0);
+    check_order("ashikhmin-shirley-2", as, BRDFFIT_PIPELINE_AUTO, 1);
+    check_order("ashikhmin-shirley-2", as, BRDFFIT_PIPELINE_JOINT, 1);
+}
+
 static void test_names(void **state)
 {
     unsigned w;
     size_t i = 0;
-    const char *seen[9];
+    const char *seen[10];
     (void)state;
-    for (w = 1; w <= BRDFFIT_WARN_STALLED; w <<= 1) {
+    for (w = 1; w <= BRDFFIT_WARN_NO_BETTER_THAN_MEAN; w <<= 1) {
         size_t j;
         const char *name = brdffit_warning_name(w);
         assert_non_null(name);
         for (j = 0; j < i; j++) assert_string_not_equal(seen[j], name);
         seen[i++] = name;
     }
-    assert_int_equal(i, 9);
+    assert_int_equal(i, 10);
     assert_null(brdffit_warning_name(0));
     assert_null(brdffit_warning_name(3));
-    assert_null(brdffit_warning_name(512));
+    assert_null(brdffit_warning_name(1024));
+    assert_string_equal(brdffit_warning_name(BRDFFIT_WARN_NO_BETTER_THAN_MEAN),
+                        "no-better-than-mean");
     assert_string_equal(brdffit_warning_name(BRDFFIT_WARN_ALBEDO), "albedo-above-1");
 }
 
@@ -409,6 +489,8 @@ int main(void)
         cmocka_unit_test(test_stalled),
         cmocka_unit_test(test_bad_calls),
         cmocka_unit_test(test_names),
+        cmocka_unit_test(test_no_better_than_mean),
+        cmocka_unit_test(test_lobe_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -82,8 +82,29 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_CLEARCOAT = 4,      /**< Clear-coat R0 in [0, 1); 0 (default) switches compensation off. */
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
     BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
-    BRDFFIT_FIT_OBJECTIVE = 7       /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
+    BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
+    BRDFFIT_FIT_PLAUSIBLE = 8       /**< 1 (default) or 0: the auto pipeline keeps every term's directional albedo <= 1 (see below). */
 } brdffit_fit_setting;
+
+/**
+ * @brief Physical plausibility (::BRDFFIT_FIT_PLAUSIBLE, on by default).
+ *
+ * The auto pipeline bounds each colour (linear parameter) of every channel
+ * so that its own term of the model reflects no more light than it
+ * receives: colour <= 1 / A, A the largest directional albedo of the term
+ * with colour 1 (the others 0) over incidence angles 0, 30, 50, 65, 75 and
+ * 85 degrees (brdffit_model_albedo(), default quality), computed at the
+ * shape of every polished candidate and held as a box bound through its
+ * polish, whose result is bounded again at its own shape and polished once
+ * more if it broke the bound. The scan itself bounds the diffuse colour
+ * alone (cd <= 1 per channel, the albedo of a Lambertian cd), which is
+ * cheap. A model with a Fresnel term "Rs" (ashikhmin-shirley-fresnel) has
+ * cd the substrate's diffuse reflectance (Ashikhmin and Shirley 2000), so
+ * cd <= 1 is its physical range too and closes the valley of the cost
+ * where Rs -> 1 and cd grows without bound. Colours held fixed are not
+ * bounded. Joint and two-stage fits ignore the setting. 0 turns it off
+ * (the cost's optimum over the model's own bounds).
+ */
 
 /**
  * @brief What a fit minimises (::BRDFFIT_FIT_OBJECTIVE). Values are fixed
@@ -112,11 +133,12 @@ typedef enum brdffit_fit_setting {
  * The error figures e and E do not change with the objective; the cost
  * (::BRDFFIT_METRIC_COST) is the objective's sum of r^2.
  * The auto pipeline under LOG, CUBE_ROOT or RELATIVE scans the shape
- * parameters on the SQUARES profile (colours solved exactly for squared
- * values) and polishes every candidate by Levenberg-Marquardt under the
- * objective: the polish reaches the objective's local optimum nearest to the
- * squared-value global one, which need not be the objective's global
- * optimum (docs/fitting.md).
+ * parameters on the objective's own profile: at every shape point the
+ * colours solved exactly for squared values are carried to the objective's
+ * optimum by a few projected Gauss-Newton steps of the small bounded colour
+ * problem, so shapes are compared by their true objective cost; every
+ * competing minimum is then polished by Levenberg-Marquardt under the
+ * objective (docs/fitting.md).
  */
 typedef enum brdffit_objective {
     BRDFFIT_OBJECTIVE_SQUARES = 0,   /**< Weighted squares of values (the thesis's cost). */
@@ -459,6 +481,12 @@ BRDFFIT_API size_t brdffit_fit_history_all(const brdffit_fit *fit, double *cost,
  *   degrees were expected look like this.
  * - ::BRDFFIT_WARN_STALLED: the final optimizer run ended with
  *   ::BRDFFIT_STOP_STALLED, at a point that is not converged.
+ * - ::BRDFFIT_WARN_NO_BETTER_THAN_MEAN: the fit is no better than the
+ *   best constant value of each channel: under the squares objective in
+ *   the cost it minimised; under the others in both Ngan's measure (the
+ *   numerator of ::BRDFFIT_METRIC_NGAN) and the plain sum of squares
+ *   (::BRDFFIT_METRIC_RMS squared), summed over channels. The model then
+ *   explains nothing of the data's variation.
  */
 typedef enum brdffit_warning {
     BRDFFIT_WARN_AT_BOUND = 1,             /**< A free shape parameter on a bound. */
@@ -469,7 +497,8 @@ typedef enum brdffit_warning {
     BRDFFIT_WARN_STOPPED_EARLY = 32,       /**< Cancelled or stopped by the callback. */
     BRDFFIT_WARN_LOBES_MERGED = 64,        /**< Two lobes that are one. */
     BRDFFIT_WARN_DEGREES_AS_RADIANS = 128, /**< Angles that look like radians read as degrees. */
-    BRDFFIT_WARN_STALLED = 256             /**< The final LM run stalled (::BRDFFIT_STOP_STALLED). */
+    BRDFFIT_WARN_STALLED = 256,            /**< The final LM run stalled (::BRDFFIT_STOP_STALLED). */
+    BRDFFIT_WARN_NO_BETTER_THAN_MEAN = 512 /**< The fit's error E is no smaller than a constant's. */
 } brdffit_warning;
 
 /**
@@ -503,7 +532,8 @@ BRDFFIT_API brdffit_status brdffit_fit_warning_text(const brdffit_fit *fit, unsi
 /**
  * @brief The short name of one warning bit ("at-bound", "no-diffuse",
  *        "albedo-above-1", "fresnel-valley", "iteration-limit",
- *        "stopped-early", "lobes-merged", "radians-as-degrees", "stalled"), as the
+ *        "stopped-early", "lobes-merged", "radians-as-degrees", "stalled",
+ *        "no-better-than-mean"), as the
  *        command's JSON output uses them; NULL unless @p warning is exactly
  *        one known bit. The strings are static. Thread-safe.
  */

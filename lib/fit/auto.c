@@ -7,6 +7,8 @@
 
 #include "core/core.h"
 #include "fit/pipelines.h"
+#include "fit/plausible.h"
+#include "fit/profile_gn.h"
 #include "fit/scan.h"
 #include "fit/varpro.h"
 
@@ -16,20 +18,12 @@ typedef struct best_polish {
     size_t stage;
 } best_polish;
 
-/* Polish candidate i with LM over every free parameter; the best polish
- * so far is in the run's result, with its report, and the only polish the
- * trace keeps. `work` has 3 n doubles. */
-static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_polish *best,
-                             double *work)
+/* Keep the LM run just made when it beats the best so far: its
+ * parameters, standard errors and report, and the only polish the trace
+ * keeps. `work` has 2 n doubles: the run's parameters and standard errors. */
+static brdffit_status keep_if_best(bf_stage *st, best_polish *best, const double *work)
 {
     bf_result *r = st->run->result;
-    double cost, *start = work, *params = work + st->n, *se = work + 2 * st->n;
-    bf_scan_set_point(st, sc, sc->best[i].u);
-    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
-    memcpy(start, st->p, st->n * sizeof *start);
-    st->kind = BRDFFIT_STAGE_POLISH;
-    st->label = i;
-    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, params, se));
     if (!(st->cost < best->cost)) {
         bf_trace_keep(&r->trace, st->traced, 0);
         return BRDFFIT_OK;
@@ -37,9 +31,73 @@ static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_pol
     if (best->cost < HUGE_VAL) bf_trace_keep(&r->trace, best->stage, 0);
     best->cost = st->cost;
     best->stage = st->traced;
-    memcpy(r->params, params, st->n * sizeof *params);
-    memcpy(r->std_errors, se, st->n * sizeof *se);
+    memcpy(r->params, work, st->n * sizeof *work);
+    memcpy(r->std_errors, work + st->n, st->n * sizeof *work);
     return bf_result_keep_report(r, st->opt, &st->run->fit->alloc);
+}
+
+/* Plausibility: the colours' bounds at the polished shape (work, n
+ * doubles, then its standard errors), polished again from there while the
+ * result breaks them, at most BF_REBOUNDS times (each run replaces the one
+ * before in the trace); then clamped to them. */
+#define BF_REBOUNDS 4
+static brdffit_status rebound(bf_stage *st, double *work)
+{
+    double *start = work + 2 * st->n;
+    int i;
+    for (i = 0; i < BF_REBOUNDS && !st->run->cancelled; i++) {
+        memcpy(st->p, work, st->n * sizeof *st->p);
+        BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1));
+        if (bf_plausible_within(st, work)) break;
+        memcpy(start, work, st->n * sizeof *start);
+        bf_trace_keep(&st->run->result->trace, st->traced, 0);
+        BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    }
+    if (i < BF_REBOUNDS || st->run->cancelled) return BRDFFIT_OK;
+    /* still creeping over: the colours clamped to the bounds at the final
+     * shape, a plausible point, and its cost */
+    memcpy(st->p, work, st->n * sizeof *st->p);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1));
+    bf_plausible_clamp(st, work);
+    memcpy(st->p, work, st->n * sizeof *st->p);
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+    st->cost = st->acc[0];
+    return BRDFFIT_OK;
+}
+
+/* Polish candidate i with LM over every free parameter; the best polish
+ * so far is in the run's result. `work` has 3 n doubles. */
+static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_polish *best,
+                             double *work)
+{
+    double cost, *start = work + 2 * st->n;
+    bf_scan_set_point(st, sc, sc->best[i].u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1)); /* every bound at the candidate's shape */
+    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
+    memcpy(start, st->p, st->n * sizeof *start);
+    st->kind = BRDFFIT_STAGE_POLISH;
+    st->label = i;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    BF_RETURN_IF_ERROR(rebound(st, work));
+    return keep_if_best(st, best, work);
+}
+
+/* A best polish that made no iteration left a scan point as it was (LM
+ * found no descent from it, e.g. on a plateau where a colour grows
+ * without bound): one more polish from the model's start values (labelled
+ * with the number of candidates), so the result is never an unpolished
+ * scan point when a descent exists. */
+static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
+{
+    const bf_result *r = st->run->result;
+    if (r->iterations > 0 || r->stop != BRDFFIT_STOP_STALLED || st->run->cancelled)
+        return BRDFFIT_OK;
+    st->kind = BRDFFIT_STAGE_POLISH;
+    st->label = sc->n_best;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
+    return keep_if_best(st, best, work);
+}
 }
 
 /* A cancel during the scan: the best point seen so far, unpolished. */
@@ -49,7 +107,9 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
     double cost;
     if (sc->n_best == 0) memcpy(st->p, st->base, st->n * sizeof *st->p);
     else bf_scan_set_point(st, sc, sc->best[0].u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0));
     BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
     memcpy(r->params, st->p, st->n * sizeof *r->params);
     memset(r->std_errors, 0, st->n * sizeof *r->std_errors);
     return BRDFFIT_OK;
@@ -74,6 +134,7 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (i = 0; i < n_polish && status == BRDFFIT_OK && !st->run->cancelled; i++)
         status = polish(st, sc, i, &best, work);
+    if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = repolish(st, sc, &best, work);
     if (status == BRDFFIT_OK && !(best.cost < HUGE_VAL))
         status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
     bf_free(a, work);

@@ -54,6 +54,7 @@ static void fit_defaults(brdffit_fit *fit)
     fit->threads = 1;
     fit->max_iterations = 200;
     fit->objective = BRDFFIT_OBJECTIVE_SQUARES;
+    fit->plausible = 1;
     fit->damping = *brdffit_damping_nielsen();
     brdffit_model_default_params(fit->model, fit->nc, fit->start);
     for (k = 0; k < brdffit_model_param_count(fit->model); k++)
@@ -165,6 +166,10 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
         if (!is_whole(value, 0, BRDFFIT_OBJECTIVE_RELATIVE)) break;
         fit->objective = (brdffit_objective)(int)value;
         return BRDFFIT_OK;
+    case BRDFFIT_FIT_PLAUSIBLE:
+        if (!is_whole(value, 0, 1)) break;
+        fit->plausible = (int)value;
+        return BRDFFIT_OK;
     default:
         return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "unknown fit setting");
     }
@@ -185,6 +190,7 @@ brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setti
     case BRDFFIT_FIT_THREADS: *value = (double)fit->threads; return BRDFFIT_OK;
     case BRDFFIT_FIT_MAX_ITERATIONS: *value = (double)fit->max_iterations; return BRDFFIT_OK;
     case BRDFFIT_FIT_OBJECTIVE: *value = (double)fit->objective; return BRDFFIT_OK;
+    case BRDFFIT_FIT_PLAUSIBLE: *value = (double)fit->plausible; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }

@@ -27,6 +27,7 @@ struct brdffit_fit {
     size_t threads;
     size_t max_iterations;
     brdffit_objective objective;
+    int plausible;              /* BRDFFIT_FIT_PLAUSIBLE */
     brdffit_damping damping;
     double *start;              /* n_vec: start values (model defaults unless set) */
     unsigned char *fixed;       /* per declared parameter */

@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/baseline.h"
+#include "fit/canonical.h"
 #include "fit/pipelines.h"
 
 /* Indexed by brdffit_pipeline. */
@@ -178,7 +180,9 @@ static brdffit_status run_stages(bf_run *run)
     brdffit_status status;
     bf_pool_start(&run->pool, helper_count(run));
     status = pipelines[run->fit->pipeline](run);
+    if (status == BRDFFIT_OK) bf_canonical_lobes(run); /* sharper lobe first */
     if (status == BRDFFIT_OK) status = final_metrics(run);
+    if (status == BRDFFIT_OK) bf_baseline_mean_error(run);
     bf_pool_stop(&run->pool);
     if (status == BRDFFIT_OK && run->cancelled) run->result->stop = BRDFFIT_STOP_CANCELLED;
     return status;

@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/plausible.h"
+#include "fit/profile_gn.h"
 #include "fit/varpro.h"
 
 /* Scan coordinates of a shared, free, non-linear parameter's range. */
@@ -90,7 +92,9 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
+    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
     status = bf_varpro_profile(st, cost);
+    if (status == BRDFFIT_OK) status = bf_profile_gn(st, cost); /* the objective's cost */
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it
      * is not recorded in the trace, which holds the costs evaluated */

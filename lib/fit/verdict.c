@@ -226,9 +226,37 @@ static unsigned radians(verdict *v)
     return 0;
 }
 
+/* The fit against each channel's best constant, in E's measure. */
+static unsigned mean(verdict *v)
+{
+    const bf_result *r = &v->fit->result;
+    double fitted = 0.0, plain = 0.0;
+    size_t c;
+    for (c = 0; c < v->fit->nc; c++) {
+        fitted += r->metrics[4 * c + 1];
+        plain += r->metrics[4 * c];
+    }
+    if (v->fit->objective == BRDFFIT_OBJECTIVE_SQUARES) {
+        /* the cost the fit minimised */
+        double cost = 0.0;
+        for (c = 0; c < v->fit->nc; c++) cost += r->metrics[4 * c + 3];
+        if (!(r->mean_cost > 0.0) || cost < r->mean_cost) return 0;
+        return say(v, BRDFFIT_WARN_NO_BETTER_THAN_MEAN,
+                   "the fit's cost, %g, is no smaller than %g, that of each channel's best "
+                   "constant value: the model explains none of the data's variation",
+                   cost, r->mean_cost);
+    }
+    if (!(r->mean_error > 0.0) || fitted < r->mean_error || plain < r->mean_plain) return 0;
+    return say(v, BRDFFIT_WARN_NO_BETTER_THAN_MEAN,
+               "the fit's squared errors, %g in Ngan's measure and %g unweighted, are no "
+               "smaller than %g and %g, those of each channel's best constant value: the "
+               "model explains none of the data's variation",
+               fitted, plain, r->mean_error, r->mean_plain);
+}
+
 static unsigned judge(verdict *v)
 {
-    return at_bound(v) | diffuse(v) | fresnel(v) | stop(v) | lobes(v) | radians(v);
+    return at_bound(v) | diffuse(v) | fresnel(v) | stop(v) | lobes(v) | radians(v) | mean(v);
 }
 
 unsigned brdffit_fit_warnings(const brdffit_fit *fit)
@@ -269,6 +297,7 @@ const char *brdffit_warning_name(unsigned warning)
     case BRDFFIT_WARN_LOBES_MERGED: return "lobes-merged";
     case BRDFFIT_WARN_DEGREES_AS_RADIANS: return "radians-as-degrees";
     case BRDFFIT_WARN_STALLED: return "stalled";
+    case BRDFFIT_WARN_NO_BETTER_THAN_MEAN: return "no-better-than-mean";
     default: return NULL;
     }
 }

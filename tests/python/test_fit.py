@@ -111,6 +111,46 @@ class Recovery(unittest.TestCase):
         self.assertLess(fit.error("rms"), 1e-8)
         self.assertLess(fit.error("rms", channel=2), 1e-8)
 
+    def test_objectives(self):
+        """Every objective recovers the data's own parameters; the cost is the
+        objective's, the same parameters giving different costs."""
+        costs = {}
+        for objective in brdffit.fit.OBJECTIVES:
+            with self.subTest(objective=objective):
+                fit = Fit(self.grid, self.builtin, objective=objective).run()
+                self.assertEqual(fit.objective, objective)
+                self.assertLess(support.relative_difference(fit.params, self.truth), 1e-6)
+                joint = Fit(self.grid, self.builtin, objective=objective, pipeline="joint",
+                            start=self.truth * 1.2).run()
+                self.assertLess(support.relative_difference(joint.params, self.truth), 1e-6)
+                off = Fit(self.grid, self.builtin, objective=objective, pipeline="joint",
+                          start=self.truth * 1.2, max_iterations=1).run()
+                costs[objective] = off.error("cost")
+        self.assertEqual(len(set(costs.values())), len(costs))
+        fit = Fit(self.grid, self.builtin)
+        self.assertEqual(fit.objective, "squares")
+        fit.objective = 1
+        self.assertEqual(fit.objective, "log")
+        with self.assertRaises(ValueError):
+            fit.objective = "absolute"
+        with self.assertRaises(BrdffitError) as cm:
+            fit.objective = 4
+        self.assertEqual(cm.exception.status, Status.E_INVALID_ARGUMENT)
+
+    def test_plausible(self):
+        """On by default; off, an albedo above 1 is fitted as it is."""
+        truth = self.builtin.pack_params({"ns": 80.0, "cd": [1.6, 0.3, 0.2],
+                                          "cs": [0.2, 0.2, 0.2]}, 3)
+        grid = support.model_grid(self.builtin, truth, 3)
+        fit = Fit(grid, self.builtin)
+        self.assertTrue(fit.plausible)
+        p = fit.run().params_by_name()
+        self.assertLessEqual(p["cd"][0], 1.0)
+        off = Fit(grid, self.builtin, plausible=False).run()
+        self.assertFalse(off.plausible)
+        self.assertAlmostEqual(off.params_by_name()["cd"][0], 1.6, delta=1e-6)
+        self.assertIn("albedo-above-1", [name for name, _ in off.warnings()])
+
     def test_python_model_auto_and_joint(self):
         model = support.python_as_model()
         reference = Fit(self.grid, self.builtin).run().params

@@ -14,10 +14,12 @@ from ._lib import ALL_CHANNELS, dptr, lib
 from .errors import BrdffitError, Status, check, new_error
 from .grid import Weighting
 
-__all__ = ["Fit", "IterationInfo", "Stage", "PIPELINES", "METRICS", "STOP_REASONS"]
+__all__ = ["Fit", "IterationInfo", "Stage", "PIPELINES", "OBJECTIVES", "METRICS", "STOP_REASONS"]
 
 #: Pipeline names and their ``brdffit_pipeline`` values.
 PIPELINES = {"auto": 0, "joint": 1, "two-stage": 2}
+#: Objective names and their ``brdffit_objective`` values (what a fit minimises).
+OBJECTIVES = {"squares": 0, "log": 1, "cube-root": 2, "relative": 3}
 #: Error metric names and their ``brdffit_fit_metric`` values.
 METRICS = {"rms": 0, "ngan": 1, "cost": 2}
 #: Stop reason names, indexed by ``brdffit_stop_reason`` value.
@@ -26,6 +28,7 @@ STOP_REASONS = ("none", "gradient", "step", "cost", "max-iterations", "max-evalu
 
 # brdffit_fit_setting values
 _PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4, 5, 6
+_OBJECTIVE, _PLAUSIBLE = 7, 8
 
 #: What an iteration callback receives: the 1-based iteration number of the
 #: current LM run, whether the step was accepted, the cost at the current
@@ -71,6 +74,10 @@ class Fit(Handle):
     - ``clearcoat``: clear-coat R0 in [0, 1), 0 = off;
     - ``threads``: threads per pass over the samples, 1 .. 64;
     - ``max_iterations``: iteration limit of each LM run;
+    - ``objective``: what the fit minimises, ``"squares"`` (default),
+      ``"log"``, ``"cube-root"`` or ``"relative"`` (docs/fitting.md);
+    - ``plausible``: whether auto keeps every term's directional albedo
+      <= 1 (default True);
     - ``start``: start vector, or ``{name: value}`` on top of the model's
       defaults (see :meth:`set_start`);
     - ``fixed``: names (or indices) of parameters to hold at their start
@@ -116,12 +123,13 @@ class Fit(Handle):
 
     def configure(self, pipeline=None, cap=None, weighting=None, clearcoat=None, threads=None,
                   max_iterations=None, start=None, fixed=None, callback=None, fix=None,
-                  free=None, damping=None):
+                  free=None, damping=None, objective=None, plausible=None):
         """Set several options at once; None leaves an option unchanged
         (``start`` before ``fixed``, ``fix`` and ``free``)."""
         for name, value in (("pipeline", pipeline), ("cap", cap), ("weighting", weighting),
                             ("clearcoat", clearcoat), ("threads", threads),
-                            ("max_iterations", max_iterations)):
+                            ("max_iterations", max_iterations), ("objective", objective),
+                            ("plausible", plausible)):
             if value is not None:
                 setattr(self, name, value)
         if start is not None:
@@ -258,6 +266,25 @@ class Fit(Handle):
     @max_iterations.setter
     def max_iterations(self, value):
         self._set(_MAX_ITERATIONS, value)
+
+    @property
+    def objective(self):
+        """``"squares"``, ``"log"``, ``"cube-root"`` or ``"relative"``."""
+        value = int(self._get(_OBJECTIVE))
+        return {v: k for k, v in OBJECTIVES.items()}[value]
+
+    @objective.setter
+    def objective(self, value):
+        self._set(_OBJECTIVE, _lookup(OBJECTIVES, value, "objective"))
+
+    @property
+    def plausible(self):
+        """Whether auto bounds the colours by energy conservation."""
+        return bool(self._get(_PLAUSIBLE))
+
+    @plausible.setter
+    def plausible(self, value):
+        self._set(_PLAUSIBLE, 1 if value else 0)
 
     @property
     def n_channels(self):

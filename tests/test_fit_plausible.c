@@ -1,0 +1,204 @@
+/* Physical plausibility (BRDFFIT_FIT_PLAUSIBLE): the setting's values, the
+ * diffuse albedo held at 1 per channel, a specular lobe's directional
+ * albedo held at 1, the Fresnel model's valley (Rs -> 1, cd -> inf) closed,
+ * and the data's own parameters recovered with the setting off. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fit_fixtures.h"
+#include "test_support.h"
+
+#define MAXV 32
+#define PI 3.14159265358979323846
+
+static const double ANGLES[6] = {0.0, 30.0 * PI / 180.0, 50.0 * PI / 180.0,
+                                 65.0 * PI / 180.0, 75.0 * PI / 180.0, 85.0 * PI / 180.0};
+
+static brdffit_axes small_axes(double *ti, double *to, double *po)
+{
+    brdffit_axes ax;
+    size_t i;
+    for (i = 0; i < 9; i++) ti[i] = 9.0 * (double)i * PI / 180.0;
+    for (i = 0; i < 13; i++) to[i] = 6.5 * (double)i * PI / 180.0;
+    for (i = 0; i < 12; i++) po[i] = (double)i * PI / 11.0;
+    ax.theta_i = ti;
+    ax.n_theta_i = 9;
+    ax.theta_o = to;
+    ax.n_theta_o = 13;
+    ax.phi_o = po;
+    ax.n_phi_o = 12;
+    return ax;
+}
+
+static brdffit_model *make_model(const char *name)
+{
+    brdffit_model *model = NULL;
+    assert_int_equal(brdffit_model_create(&model, name, NULL, NULL), BRDFFIT_OK);
+    return model;
+}
+
+static brdffit_grid *grid_of(const brdffit_model *model, const double *p)
+{
+    static double ti[9], to[13], po[12];
+    brdffit_axes ax = small_axes(ti, to, po);
+    brdffit_grid *grid = fx_grid_from_model(model, p, 3, &ax, 0.0, 3);
+    assert_non_null(grid);
+    return grid;
+}
+
+/* Auto fit with plausibility on (1) or off (0): parameters into p. */
+static brdffit_fit *fit_auto(const brdffit_grid *grid, const brdffit_model *model, int plausible,
+                             double *p)
+{
+    brdffit_fit *fit = NULL;
+    brdffit_status st;
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, plausible), BRDFFIT_OK);
+    st = brdffit_fit_run(fit);
+    if (st != BRDFFIT_OK) print_error("fit failed: %s\n", brdffit_fit_message(fit));
+    assert_int_equal(st, BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_params(fit, p), BRDFFIT_OK);
+    return fit;
+}
+
+/* Largest directional albedo over ANGLES of the model at p with every
+ * colour but declared parameter `keep` zero, per channel into top. */
+static void term_albedo(const brdffit_model *model, const double *p, size_t keep, double *top)
+{
+    double v[MAXV], a[6 * 3];
+    size_t k, c, t, n = brdffit_model_param_count(model);
+    memcpy(v, p, brdffit_model_vector_size(model, 3) * sizeof *v);
+    for (k = 0; k < n; k++) {
+        if (k == keep || !(brdffit_model_param(model, k)->flags & BRDFFIT_PARAM_LINEAR)) continue;
+        for (c = 0; c < 3; c++) v[brdffit_model_vector_index(model, k, c, 3)] = 0.0;
+    }
+    assert_int_equal(brdffit_model_albedo(model, v, 3, ANGLES, 6, 0, a, NULL), BRDFFIT_OK);
+    for (c = 0; c < 3; c++) {
+        top[c] = 0.0;
+        for (t = 0; t < 6; t++) top[c] = fmax(top[c], a[t * 3 + c]);
+    }
+}
+
+static void test_setting(void **state)
+{
+    brdffit_model *model = make_model("lambert");
+    brdffit_grid *grid;
+    brdffit_fit *fit = NULL;
+    double p[3] = {0.5, 0.5, 0.5}, value = -1.0;
+    (void)state;
+    grid = grid_of(model, p);
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_PLAUSIBLE, &value), BRDFFIT_OK);
+    assert_true(value == 1.0); /* on by default */
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 2), BRDFFIT_E_INVALID_ARGUMENT);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 0.5), BRDFFIT_E_INVALID_ARGUMENT);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 0), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_PLAUSIBLE, &value), BRDFFIT_OK);
+    assert_true(value == 0.0);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
+/* Ashikhmin-Shirley data with a diffuse albedo of 1.6 in the first
+ * channel: on, cd stays at 1 there (the others recovered) and the verdict
+ * has no albedo warning; off, the data's cd comes back. */
+static void test_diffuse_albedo(void **state)
+{
+    static const double v[3][8] = {{80.0}, {1.6, 0.3, 0.2}, {0.2, 0.2, 0.2}};
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    double truth[MAXV], p[MAXV];
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    (void)state;
+    fx_vector(model, 3, v, truth);
+    grid = grid_of(model, truth);
+    fit = fit_auto(grid, model, 1, p);
+    printf("on: cd %g %g %g\n", p[1], p[2], p[3]);
+    assert_true(p[1] <= 1.0 + 1e-12 && p[1] > 0.99);
+    assert_true(p[2] <= 1.0 && p[3] <= 1.0);
+    assert_int_equal(brdffit_fit_warnings(fit) & BRDFFIT_WARN_ALBEDO, 0);
+    brdffit_fit_destroy(fit);
+    fit = fit_auto(grid, model, 0, p);
+    assert_close(p[1] / 1.6, 1.0, 1e-6);
+    assert_true(brdffit_fit_warnings(fit) & BRDFFIT_WARN_ALBEDO);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
+/* GGX data whose lobe reflects twice the light it receives at some angle:
+ * on, the fitted lobe's directional albedo is at most 1 (to the
+ * integration's accuracy) in every channel; off, the data's cs. */
+static void test_lobe_albedo(void **state)
+{
+    static const double v[4][8] = {{0.3}, {0.04}, {0.1, 0.1, 0.1}, {1.0, 0.5, 0.25}};
+    brdffit_model *model = make_model("ggx");
+    double truth[MAXV], p[MAXV], top[3];
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    size_t c;
+    (void)state;
+    fx_vector(model, 3, v, truth);
+    term_albedo(model, truth, 3, top);
+    for (c = 0; c < 3; c++) truth[brdffit_model_vector_index(model, 3, c, 3)] *= 2.0 / top[0];
+    term_albedo(model, truth, 3, top);
+    assert_close(top[0], 2.0, 1e-9);
+    grid = grid_of(model, truth);
+    fit = fit_auto(grid, model, 1, p);
+    term_albedo(model, p, 3, top);
+    printf("on: lobe albedo %g %g %g\n", top[0], top[1], top[2]);
+    for (c = 0; c < 3; c++) assert_true(top[c] <= 1.0 + 1e-3);
+    assert_true(top[0] > 0.9); /* the bound is used, not a lobe switched off */
+    brdffit_fit_destroy(fit);
+    fit = fit_auto(grid, model, 0, p);
+    for (c = 0; c < 3; c++)
+        assert_close(p[brdffit_model_vector_index(model, 3, c, 3)] /
+                         truth[brdffit_model_vector_index(model, 3, c, 3)],
+                     1.0, 1e-5);
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+}
+
+/* The Fresnel model on a Cook-Torrance lobe with a bright diffuse term,
+ * where its cost trades cd against Rs (off: Rs 0.72, cd 2.5). On, cd <= 1
+ * in every channel and the verdict has no valley warning. */
+static void test_fresnel_valley(void **state)
+{
+    static const double v[4][8] = {{0.2}, {0.04}, {0.9, 0.8, 0.7}, {0.6, 0.6, 0.6}};
+    brdffit_model *ct = make_model("cook-torrance"), *model = make_model("ashikhmin-shirley-fresnel");
+    double truth[MAXV], p[MAXV];
+    brdffit_grid *grid;
+    brdffit_fit *fit;
+    size_t c;
+    (void)state;
+    fx_vector(ct, 3, v, truth);
+    grid = grid_of(ct, truth);
+    fit = fit_auto(grid, model, 1, p);
+    printf("on: Rs %g cd %g %g %g, warnings %u\n", p[1], p[2], p[3], p[4],
+           brdffit_fit_warnings(fit));
+    for (c = 0; c < 3; c++) assert_true(p[2 + c] <= 1.0 + 1e-12);
+    assert_int_equal(brdffit_fit_warnings(fit) & BRDFFIT_WARN_FRESNEL_VALLEY, 0);
+    brdffit_fit_destroy(fit);
+    fit = fit_auto(grid, model, 0, p);
+    printf("off: Rs %g cd %g %g %g, warnings %u\n", p[1], p[2], p[3], p[4],
+           brdffit_fit_warnings(fit));
+    assert_true(p[2] > 2.0); /* off, cd climbs with Rs: the bound did the work */
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+    brdffit_model_destroy(ct);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_setting),
+        cmocka_unit_test(test_diffuse_albedo),
+        cmocka_unit_test(test_lobe_albedo),
+        cmocka_unit_test(test_fresnel_valley),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
