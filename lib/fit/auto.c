@@ -98,7 +98,6 @@ static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *bes
     BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
     return keep_if_best(st, best, work);
 }
-}
 
 /* A cancel during the scan: the best point seen so far, unpolished. */
 static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
