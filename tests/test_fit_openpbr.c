@@ -88,8 +88,6 @@ static double recover(const material *mat, double noise, int pipeline, double *c
     grid = fx_grid_from_model(model, truth, NC, NULL, noise, 7);
     assert_non_null(grid);
     assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
-    if (getenv("XXJ")) brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT);
-    if (getenv("XXF")) brdffit_fit_set_fixed(fit, 2, 1);
     if (brdffit_fit_run(fit) != BRDFFIT_OK) fail_msg("%s: %s", mat->what, brdffit_fit_message(fit));
     assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, cost),
