@@ -83,22 +83,30 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
     BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
     BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
-    BRDFFIT_FIT_PLAUSIBLE = 8       /**< 1 (default) or 0: the auto pipeline keeps every term's directional albedo <= 1 (see below). */
+    BRDFFIT_FIT_PLAUSIBLE = 8       /**< 0, 1 (default) or 2: how the auto pipeline bounds the colours by energy conservation (see below). */
 } brdffit_fit_setting;
 
 /**
- * @brief Physical plausibility (::BRDFFIT_FIT_PLAUSIBLE, on by default).
+ * @brief Physical plausibility (::BRDFFIT_FIT_PLAUSIBLE, 1 by default).
  *
- * The auto pipeline bounds each colour (linear parameter) of every channel
+ * 1 (the default): the auto pipeline keeps the diffuse colour "cd" of every
+ * channel at most 1 (the albedo of a Lambertian cd), in its scan and its
+ * polish; this costs nothing measurable.
+ *
+ * 2: besides, it bounds each colour (linear parameter) of every channel
  * so that its own term of the model reflects no more light than it
  * receives: colour <= 1 / A, A the largest directional albedo of the term
  * with colour 1 (the others 0) over incidence angles 0, 30, 50, 65, 75 and
  * 85 degrees (brdffit_model_albedo(), default quality), computed at the
  * shape of every polished candidate and held as a box bound through its
  * polish, whose result is bounded again at its own shape and polished once
- * more if it broke the bound. The scan itself bounds the diffuse colour
- * alone (cd <= 1 per channel, the albedo of a Lambertian cd), which is
- * cheap. A model with a Fresnel term "Rs" (ashikhmin-shirley-fresnel) has
+ * more if it broke the bound (up to 4 times, then clamped). The scan
+ * itself bounds the diffuse colour alone, as 1 does. Each bound is a
+ * directional-albedo integral at six angles, which costs more than the
+ * whole fit's passes on a grid of the bundled sample's size: 2 makes an
+ * auto fit an order of magnitude slower.
+ *
+ * A model with a Fresnel term "Rs" (ashikhmin-shirley-fresnel) has
  * cd the substrate's diffuse reflectance (Ashikhmin and Shirley 2000), so
  * cd <= 1 is its physical range too and closes the valley of the cost
  * where Rs -> 1 and cd grows without bound. Colours held fixed are not

@@ -167,7 +167,7 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
         fit->objective = (brdffit_objective)(int)value;
         return BRDFFIT_OK;
     case BRDFFIT_FIT_PLAUSIBLE:
-        if (!is_whole(value, 0, 1)) break;
+        if (!is_whole(value, 0, 2)) break;
         fit->plausible = (int)value;
         return BRDFFIT_OK;
     default:

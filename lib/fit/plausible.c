@@ -3,7 +3,8 @@
  * At one shape the model is linear in its colours, and so is each term's
  * directional albedo: term q with colour c_q reflects c_q A_q(theta_i) of
  * the light from theta_i, A_q the albedo of the term with colour 1. So
- * c_q <= 1 / max A_q is a box bound that the profile (varpro.h,
+ * c_q <= 1 / max A_q is a box bound (setting 2; setting 1, the default,
+ * keeps only the cheap diffuse bound below) that the profile (varpro.h,
  * profile_gn.h) and the polish honour exactly at that shape. The integral
  * costs about as much as a pass over a large grid per term, so the scan
  * bounds cd alone and each polish start and result gets the full bounds. The albedo of
@@ -85,7 +86,7 @@ brdffit_status bf_plausible_bounds(bf_stage *st, int full)
     double bound[BF_LSQ_MAX];
     if (!st->run->fit->plausible || K == 0 || K > BF_LSQ_MAX) return BRDFFIT_OK;
     for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
-    if (full) BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
+    if (full && st->run->fit->plausible >= 2) BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
     diffuse_bound(st, K, bound);
     for (q = 0; q < K; q++) {
         double declared = brdffit_model_param(pb->model, pb->ly.linear[q])->upper;

@@ -76,8 +76,8 @@ class Fit(Handle):
     - ``max_iterations``: iteration limit of each LM run;
     - ``objective``: what the fit minimises, ``"squares"`` (default),
       ``"log"``, ``"cube-root"`` or ``"relative"`` (docs/fitting.md);
-    - ``plausible``: whether auto keeps every term's directional albedo
-      <= 1 (default True);
+    - ``plausible``: 0, 1 (default: the diffuse colour <= 1) or 2 (also
+      every term's directional albedo <= 1); True means 1, False 0;
     - ``start``: start vector, or ``{name: value}`` on top of the model's
       defaults (see :meth:`set_start`);
     - ``fixed``: names (or indices) of parameters to hold at their start
@@ -278,13 +278,17 @@ class Fit(Handle):
         self._set(_OBJECTIVE, _lookup(OBJECTIVES, value, "objective"))
 
     @property
-    def plausible(self):
-        """Whether auto bounds the colours by energy conservation."""
-        return bool(self._get(_PLAUSIBLE))
+    def plausible(self) -> int:
+        """How auto bounds the colours by energy conservation: 0 not at
+        all, 1 (default) the diffuse colour at most 1, 2 also every term's
+        directional albedo at most 1 (slower; ``BRDFFIT_FIT_PLAUSIBLE``)."""
+        return int(self._get(_PLAUSIBLE))
 
     @plausible.setter
     def plausible(self, value):
-        self._set(_PLAUSIBLE, 1 if value else 0)
+        if isinstance(value, bool):
+            value = 1 if value else 0
+        self._set(_PLAUSIBLE, value)
 
     @property
     def n_channels(self):
