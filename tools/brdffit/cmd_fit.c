@@ -31,6 +31,8 @@ static const char fit_help[] =
     "                        NAME=V1:V2:V3, comma-separated (every pipeline)\n"
     "  --free LIST           let parameters the model holds by default (F0) move,\n"
     "                        NAME,NAME,...\n"
+    "  --plausible N         auto's energy bounds: 0 none, 1 (default) cd <= 1,\n"
+    "                        2 also every term's directional albedo <= 1 (slower)\n"
     "  --damping POLICY      Levenberg-Marquardt damping: nielsen (default),\n"
     "                        marquardt or thesis\n"
     "  --max-iterations N    iteration limit of each Levenberg-Marquardt run\n"
@@ -66,7 +68,7 @@ typedef struct fit_opts {
     brdffit_objective objective;
     double cap, clearcoat, gain, gamma;
     unsigned weighting, mtlx_shaders;
-    size_t threads, max_iterations;
+    size_t threads, max_iterations, plausible;
     int json, strict;
 } fit_opts;
 
@@ -101,6 +103,7 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
     double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
     if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, (double)o->plausible)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, o->clearcoat)) != BRDFFIT_OK ||
@@ -138,6 +141,7 @@ static void collect_settings(const brdffit_fit *fit, fit_result *r)
         r->clearcoat = 0.0;
     if (brdffit_fit_get(fit, BRDFFIT_FIT_MAX_ITERATIONS, &v) == BRDFFIT_OK)
         r->max_iterations = (size_t)v;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_PLAUSIBLE, &v) == BRDFFIT_OK) r->plausible = (int)v;
 }
 
 static int collect(brdffit_fit *fit, const fit_run *run, fit_result *r)
@@ -500,6 +504,9 @@ static int option_value(fit_opts *o, const char *name, const char *value)
     else if (strcmp(name, "threads") == 0) {
         if (!cli_parse_size(value, &o->threads) || o->threads < 1 || o->threads > 256)
             return cli_usage_error("fit", "--threads needs a count from 1 to 256");
+    } else if (strcmp(name, "plausible") == 0) {
+        if (!cli_parse_size(value, &o->plausible) || o->plausible > 2)
+            return cli_usage_error("fit", "--plausible is 0, 1 or 2");
     } else if (strcmp(name, "max-iterations") == 0) {
         if (!cli_parse_size(value, &o->max_iterations) || o->max_iterations < 1 ||
             o->max_iterations > 1000000)
@@ -531,7 +538,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
 {
     static const cli_option options[] = {{"help", 0},      {"model", 1},     {"pipeline", 1},
                                          {"start", 1},     {"cap", 1},       {"no-solid-angle", 0},
-                                         {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1},
+                                         {"no-cosine", 0}, {"clearcoat", 1}, {"max-iterations", 1}, {"plausible", 1},
                                          {"threads", 1},   {"json", 0},      {"csv", 1},
                                          {"preview", 1},   {"gain", 1},      {"gamma", 1},
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
@@ -653,6 +660,7 @@ int cli_cmd_fit(int argc, char **argv)
     o.gain = 3.0;
     o.gamma = 2.2;
     o.threads = 1;
+    o.plausible = 1;
     n_files = parse_options(&o, argc, argv);
     if (n_files == -1) return CLI_OK;
     if (n_files < 0) return CLI_USAGE;

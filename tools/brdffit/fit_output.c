@@ -96,11 +96,12 @@ static double degrees(double rad)
 
 /* --- summary ------------------------------------------------------------------ */
 
-/* One line with cap, weighting and clear coat when any is not the default. */
+/* One line with cap, weighting, clear coat and plausibility when any is
+ * not the default. */
 static void summary_settings(cli_buf *b, const fit_result *r)
 {
     if (fabs(degrees(r->cap) - 75.0) < 1e-9 && r->weighting == BRDFFIT_WEIGHT_DEFAULT &&
-        r->clearcoat == 0.0)
+        r->clearcoat == 0.0 && r->plausible == 1)
         return;
     cli_buf_printf(b, "  %-12scap %.6g deg, weighting ", "settings", degrees(r->cap));
     cli_weighting_names(b, r->weighting, " and ");
@@ -108,6 +109,7 @@ static void summary_settings(cli_buf *b, const fit_result *r)
         cli_buf_printf(b, ", clear coat R0 %.6g", r->clearcoat);
     else
         cli_buf_puts(b, ", no clear coat");
+    if (r->plausible != 1) cli_buf_printf(b, ", plausibility %d", r->plausible);
     cli_buf_puts(b, "\n");
 }
 
@@ -301,7 +303,8 @@ void fit_json(cli_buf *b, const fit_result *r)
     if (r->weighting & BRDFFIT_WEIGHT_COSINE) cli_buf_puts(b, "\"cosine\"");
     cli_buf_puts(b, "], \"clearcoat_r0\": ");
     cli_buf_json_number(b, r->clearcoat);
-    cli_buf_printf(b, ", \"max_iterations\": %zu}\n", r->max_iterations);
+    cli_buf_printf(b, ", \"max_iterations\": %zu, \"plausible\": %d}\n", r->max_iterations,
+                   r->plausible);
 }
 
 /* --- CSV ------------------------------------------------------------------------ */
@@ -338,7 +341,7 @@ void fit_csv_header(cli_buf *b, const fit_result *r)
         for (c = 0; c < r->n_channels; c++) cli_buf_printf(b, ",shader_cs_%zu", c);
     }
     cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms,warnings");
-    cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations,converged");
+    cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations,plausible,converged");
 }
 
 static void csv_number(cli_buf *b, double x)
@@ -391,6 +394,6 @@ void fit_csv_row(cli_buf *b, const fit_result *r)
     cli_buf_puts(b, ",");
     cli_weighting_names(b, r->weighting, ";");
     csv_number(b, r->clearcoat);
-    cli_buf_printf(b, ",%zu", r->max_iterations);
+    cli_buf_printf(b, ",%zu,%d", r->max_iterations, r->plausible);
     cli_buf_printf(b, ",%d\n", r->converged ? 1 : 0);
 }

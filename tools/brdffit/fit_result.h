@@ -23,6 +23,7 @@ typedef struct fit_result {
     unsigned weighting;      /* brdffit_weighting flags */
     double clearcoat;        /* Schlick R0; 0 = no compensation */
     size_t max_iterations;   /* of each LM run */
+    int plausible;           /* BRDFFIT_FIT_PLAUSIBLE */
     int fitted;               /* the fit produced parameters */
     brdffit_status status;    /* the failure when not fitted */
     char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
