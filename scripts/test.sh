@@ -103,7 +103,7 @@ tsan_stage()
         -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread -DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=thread \
         || return 1
     log "tsan: build"
-    cmake --build build-tsan -j"$jobs" --target test_concurrency test_optim_threads test_pool test_fit_many || return 1
+    cmake --build build-tsan -j"$jobs" --target tsan_tests || return 1
     log "tsan: test"
     (cd build-tsan && ctest -L tsan --output-on-failure -j"$jobs")
 }
