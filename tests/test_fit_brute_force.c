@@ -38,23 +38,6 @@ static double tolerance(const char *model)
     return TOLERANCE;
 }
 
-/* A small regular grid: 9 x 13 x 12 samples. */
-static brdffit_axes small_axes(double *ti, double *to, double *po)
-{
-    brdffit_axes ax;
-    size_t i;
-    for (i = 0; i < 9; i++) ti[i] = (9.0 * (double)i) * 3.14159265358979323846 / 180.0;
-    for (i = 0; i < 13; i++) to[i] = (6.5 * (double)i) * 3.14159265358979323846 / 180.0;
-    for (i = 0; i < 12; i++) po[i] = (double)i * 3.14159265358979323846 / 11.0;
-    ax.theta_i = ti;
-    ax.n_theta_i = 9;
-    ax.theta_o = to;
-    ax.n_theta_o = 13;
-    ax.phi_o = po;
-    ax.n_phi_o = 12;
-    return ax;
-}
-
 typedef struct source {
     const char *model;
     double v[6][8];
@@ -198,7 +181,7 @@ static int check_model(const char *name, int free_f0, brdffit_grid *const *grids
 static void test_every_model(void **state)
 {
     double ti[9], to[13], po[12], p[MAXV];
-    brdffit_axes ax = small_axes(ti, to, po);
+    brdffit_axes ax = fx_small_axes(ti, to, po);
     brdffit_grid *grids[2];
     int ok = 1;
     size_t g, i, n_grids = getenv("BRDFFIT_TEST_QUICK") ? 1 : 2;

@@ -15,22 +15,6 @@
 static const double ANGLES[6] = {0.0, 30.0 * PI / 180.0, 50.0 * PI / 180.0,
                                  65.0 * PI / 180.0, 75.0 * PI / 180.0, 85.0 * PI / 180.0};
 
-static brdffit_axes small_axes(double *ti, double *to, double *po)
-{
-    brdffit_axes ax;
-    size_t i;
-    for (i = 0; i < 9; i++) ti[i] = 9.0 * (double)i * PI / 180.0;
-    for (i = 0; i < 13; i++) to[i] = 6.5 * (double)i * PI / 180.0;
-    for (i = 0; i < 12; i++) po[i] = (double)i * PI / 11.0;
-    ax.theta_i = ti;
-    ax.n_theta_i = 9;
-    ax.theta_o = to;
-    ax.n_theta_o = 13;
-    ax.phi_o = po;
-    ax.n_phi_o = 12;
-    return ax;
-}
-
 static brdffit_model *make_model(const char *name)
 {
     brdffit_model *model = NULL;
@@ -41,7 +25,7 @@ static brdffit_model *make_model(const char *name)
 static brdffit_grid *grid_of(const brdffit_model *model, const double *p)
 {
     static double ti[9], to[13], po[12];
-    brdffit_axes ax = small_axes(ti, to, po);
+    brdffit_axes ax = fx_small_axes(ti, to, po);
     brdffit_grid *grid = fx_grid_from_model(model, p, 3, &ax, 0.0, 3);
     assert_non_null(grid);
     return grid;

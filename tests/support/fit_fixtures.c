@@ -94,3 +94,19 @@ void fx_vector(const brdffit_model *model, size_t nc, const double values[][8], 
         }
     }
 }
+
+brdffit_axes fx_small_axes(double *ti, double *to, double *po)
+{
+    brdffit_axes ax;
+    size_t i;
+    for (i = 0; i < 9; i++) ti[i] = (9.0 * (double)i) * 3.14159265358979323846 / 180.0;
+    for (i = 0; i < 13; i++) to[i] = (6.5 * (double)i) * 3.14159265358979323846 / 180.0;
+    for (i = 0; i < 12; i++) po[i] = (double)i * 3.14159265358979323846 / 11.0;
+    ax.theta_i = ti;
+    ax.n_theta_i = 9;
+    ax.theta_o = to;
+    ax.n_theta_o = 13;
+    ax.phi_o = po;
+    ax.n_phi_o = 12;
+    return ax;
+}

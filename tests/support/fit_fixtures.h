@@ -23,6 +23,11 @@ brdffit_grid *fx_grid_from_model(const brdffit_model *model, const double *param
 brdffit_grid *fx_grid_from_named(const char *name, const double *params, size_t nc,
                                  const brdffit_axes *axes, double noise, uint64_t seed);
 
+/* A small regular grid's axes, 9 x 13 x 12 samples (theta_i every 9
+ * degrees, theta_o every 6.5, phi_o every pi/11), in the caller's arrays
+ * of 9, 13 and 12 doubles. */
+brdffit_axes fx_small_axes(double *ti, double *to, double *po);
+
 /* Fill a model vector from per-parameter values: shared parameters take
  * values[k][0], per-channel ones values[k][c]. */
 void fx_vector(const brdffit_model *model, size_t nc, const double values[][8], double *vec);
