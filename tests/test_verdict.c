@@ -375,6 +375,29 @@ static void test_bad_calls(void **state)
     brdffit_model_destroy(model);
 }
 
+/* The no-better-than-mean text of a held, far too dark fit on one thread
+ * and on three: equal. */
+static int same_baseline(const brdffit_grid *grid, const brdffit_model *model,
+                         const double *start, brdffit_objective objective)
+{
+    char text[2][512];
+    size_t k;
+    for (k = 0; k < 2; k++) {
+        brdffit_fit *fit = NULL;
+        assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, k == 0 ? 1 : 3), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, objective), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_set_start(fit, start), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_set_fixed(fit, 0, 1), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+        assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_NO_BETTER_THAN_MEAN,
+                                                  text[k], sizeof text[k]),
+                         BRDFFIT_OK);
+        brdffit_fit_destroy(fit);
+    }
+    return strcmp(text[0], text[1]) == 0;
+}
+
 /* A Lambertian fit whose colour is held far below the data explains less
  * than each channel's mean: the warning, with its text; the data's own
  * model has none. */
@@ -397,6 +420,11 @@ static void test_no_better_than_mean(void **state)
         BRDFFIT_OK);
     assert_non_null(strstr(text, "best constant"));
     brdffit_fit_destroy(fit);
+    /* the baseline is the same sum on one thread and on three (the text
+     * gives the fit's and the baseline's figures), for the squares cost
+     * and for the error measures the other objectives are judged by */
+    assert_true(same_baseline(grid, model, start, BRDFFIT_OBJECTIVE_SQUARES));
+    assert_true(same_baseline(grid, model, start, BRDFFIT_OBJECTIVE_CUBE_ROOT));
     /* the data's own model explains them */
     assert_int_equal(brdffit_fit_create(&fit, grid, as, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
