@@ -293,7 +293,13 @@ BRDFFIT_API brdffit_status brdffit_fit_params(const brdffit_fit *fit, double *pa
 /**
  * @brief Standard errors of the fitted parameters from the final LM run's
  *        covariance (log-scale parameters converted by the delta method);
- *        0 for parameters held fixed or at a bound.
+ *        0 for parameters held fixed or at a bound; HUGE_VAL for a
+ *        parameter the data do not determine (its Jacobian column is zero
+ *        or vanished, or it lies in a direction of J^T J that the
+ *        pseudo-inverse drops, see brdffit_optimizer_std_errors()); never
+ *        NaN. After a cancelled auto fit (the scan's best point, not
+ *        polished) all are 0. Like every call on the handle, from one
+ *        thread at a time.
  * @param fit     The fit.
  * @param[out] se brdffit_fit_param_count() values.
  * @return As brdffit_fit_params().
