@@ -380,11 +380,13 @@ elseif(MODE STREQUAL "mtlx_render")
     skip("chromium not found (Debian: apt-get install chromium): cannot render MaterialX")
     return()
   endif()
+  # Its own folder: export_threejs_render may install into its one at the
+  # same time.
   foreach(pkg "three=${THREE}" "playwright-core=${PLAYWRIGHT}" "@needle-tools/materialx=${MATERIALX}")
     string(REPLACE "=" ";" pkg "${pkg}")
     list(GET pkg 0 name)
     list(GET pkg 1 spec)
-    npm_module(${NPM_DIR}/threejs ${name} ${spec} ok)
+    npm_module(${NPM_DIR}/mtlxrender ${name} ${spec} ok)
     if(NOT ok)
       return()
     endif()
@@ -429,7 +431,7 @@ elseif(MODE STREQUAL "mtlx_render")
       endforeach()
     endforeach()
   endforeach()
-  run(r ${NODE} ${TEST_DIR}/render_threejs.mjs ${NPM_DIR}/threejs/node_modules ${CHROMIUM}
+  run(r ${NODE} ${TEST_DIR}/render_threejs.mjs ${NPM_DIR}/mtlxrender/node_modules ${CHROMIUM}
     ${SPHERE_PICTURE} ${WORK_DIR} ${MIN_MTLX_PSNR} ${jobs})
   message("${r_out}${r_err}")
   expect_rc(r 0)
@@ -443,7 +445,7 @@ elseif(MODE STREQUAL "mtlx_render")
     fail("no specular_roughness to change in sample-openpbr.mtlx")
   endif()
   file(WRITE ${WORK_DIR}/wrong.mtlx "${wrong}")
-  run(r ${NODE} ${TEST_DIR}/render_threejs.mjs ${NPM_DIR}/threejs/node_modules ${CHROMIUM}
+  run(r ${NODE} ${TEST_DIR}/render_threejs.mjs ${NPM_DIR}/mtlxrender/node_modules ${CHROMIUM}
     ${SPHERE_PICTURE} ${WORK_DIR} ${MIN_MTLX_PSNR} "wrong=${WORK_DIR}/sample-openpbr.json,${WORK_DIR}/wrong.mtlx#open_pbr_surface")
   message("${r_out}${r_err}")
   expect_rc(r 1)
