@@ -399,7 +399,7 @@ elseif(MODE STREQUAL "mtlx_render")
   # plastic's bright diffuse under a rough lobe shows: the diffuse's
   # scaling by the rough interface's albedo (openpbr: 33.1 to 34.1 dB
   # measured, held to 30) and the coat's albedo scaling and the base's IOR
-  # against the coat (openpbr-coat: 24.0 to 24.7 dB, held to 20).
+  # against the coat (openpbr-coat: 23.8 to 24.7 dB, held to 20).
   set(params_cook-torrance "m=0.25,cd=0.05:0.1:0.4,cs=0.5")
   set(params_ward "a=0.15,cd=0,cs=0.9:0.6:0.25")
   foreach(src cook-torrance ward)
