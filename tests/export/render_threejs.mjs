@@ -1,11 +1,13 @@
-// Render exported glTF materials with three.js in headless Chromium and
+// Render exported glTF materials with three.js, or exported MaterialX
+// documents with MaterialX's own shader generator, in headless Chromium and
 // compare them with the library's own sphere pictures of the fitted models
-// (test export_threejs_render):
+// (tests export_threejs_render and export_mtlx_render):
 //
 //   node render_threejs.mjs MODULE_DIR CHROMIUM SPHERE_PICTURE OUT_DIR MIN_PSNR JOB...
 //
 // MODULE_DIR is the node_modules folder holding `three` and
-// `playwright-core`; CHROMIUM the browser (/usr/bin/chromium);
+// `playwright-core` (and `@needle-tools/materialx` for .mtlx jobs);
+// CHROMIUM the browser (/usr/bin/chromium);
 // SPHERE_PICTURE the test program that draws the library's picture
 // (sphere_picture.c); JOB is LABEL=FIT.json,ASSET.gltf[,SHIPPED_MIN] (a
 // fit's JSON record, its --gltf export, and the least PSNR of three.js as
@@ -14,7 +16,13 @@
 // three.js's linear radiance with the library's rule (clamp to [0, 1],
 // power 1 / 2.2, round to 8 bits) and prints the PSNR over the sphere's
 // pixels of three.js as shipped and with its three departures from the
-// glTF formulas switched off (render_threejs.html says which). It writes
+// glTF formulas switched off (render_threejs.html says which). A job whose
+// asset is a .mtlx document (FILE.mtlx, or FILE.mtlx#SHADER to pick the
+// material of that surface shader, open_pbr_surface or standard_surface,
+// from a document of both) is rendered once, by the shaders MaterialX
+// generates for it (render_mtlx.html), and its PSNR is held to SHIPPED_MIN
+// (MIN_PSNR unless given); the jobs of one run are all glTF or all
+// MaterialX. It writes
 // OUT_DIR/LABEL-THETA.png: library | three.js as shipped | 8 x |difference|.
 // Exits 0 when every spec-exact PSNR reaches MIN_PSNR and every as-shipped
 // one its job's minimum, both over 99 % of the sphere's pixels; 1 when one
@@ -80,7 +88,8 @@ function writePng(file, w, h, rgb) {
 // Serve the page, three.js and the assets from 127.0.0.1 (module scripts
 // do not load from file:// URLs).
 function serve(moduleDir) {
-    const types = { '.html': 'text/html', '.js': 'text/javascript', '.gltf': 'model/gltf+json' };
+    const types = { '.html': 'text/html', '.js': 'text/javascript', '.gltf': 'model/gltf+json',
+                    '.wasm': 'application/wasm', '.mtlx': 'application/xml' };
     const server = http.createServer((req, res) => {
         const url = decodeURIComponent(new URL(req.url, 'http://x').pathname);
         let file = null;
@@ -90,7 +99,10 @@ function serve(moduleDir) {
             return;
         }
         if (url === '/') file = path.join(HERE, 'render_threejs.html');
+        else if (url === '/mtlx.html') file = path.join(HERE, 'render_mtlx.html');
         else if (url.startsWith('/three/')) file = path.join(moduleDir, url);
+        else if (url.startsWith('/materialx/'))
+            file = path.join(moduleDir, '@needle-tools', url);
         else if (url.startsWith('/asset/')) file = url.slice('/asset'.length);
         if (!file || url.includes('..') || !fs.existsSync(file)) {
             res.writeHead(404);
@@ -159,9 +171,37 @@ function sheet(lib, three) {
     return out;
 }
 
+function isMtlx(job) {
+    return /\.mtlx(#|$)/.test(job.gltf);
+}
+
+// A MaterialX job: one picture per light, held to the job's minimum.
+async function renderMtlxJob(page, job, fit, exe, outDir, minPsnr) {
+    let ok = true;
+    for (const theta of LIGHTS) {
+        const lib = libraryPicture(exe, fit, theta, path.join(outDir, `${job.label}-${theta}.ppm`));
+        const [file, shader] = job.gltf.split('#');
+        const info = await page.evaluate(([u, m, s, t, e]) => window.renderMtlx(u, m, s, t, 0, e),
+                                         [`/asset${path.resolve(file)}`, shader || null, SIZE, theta,
+                                          EXPOSURE]);
+        const bytes = Buffer.from(info.pixels, 'base64');
+        const r = compare(lib, new Float32Array(bytes.buffer, bytes.byteOffset, bytes.length / 4));
+        writePng(path.join(outDir, `${job.label}-${theta}.png`), 3 * SIZE, SIZE, sheet(lib, r.three));
+        const min = job.min === undefined ? minPsnr : job.min;
+        const pass = r.psnr >= min && r.n >= 0.99 * r.disk;
+        ok = ok && pass;
+        console.log(`${job.label} ${fit.model} light ${theta} deg: PSNR ${r.psnr.toFixed(2)} dB ` +
+                    `over ${r.n} of ${r.disk} sphere pixels; ${info.loadedType} rendered by ` +
+                    `${info.renderedType} (${info.pixelChars} characters)` +
+                    `${pass ? '' : `; FAILS (needs >= ${min} dB over 99 % of the sphere)`}`);
+    }
+    return ok;
+}
+
 async function renderJob(page, job, exe, outDir, minPsnr) {
     const fit = JSON.parse(fs.readFileSync(job.json, 'utf8'));
     let ok = true;
+    if (isMtlx(job)) return renderMtlxJob(page, job, fit, exe, outDir, minPsnr);
     for (const theta of LIGHTS) {
         const lib = libraryPicture(exe, fit, theta, path.join(outDir, `${job.label}-${theta}.ppm`));
         const figures = [];
@@ -196,6 +236,11 @@ async function main() {
         const [json, gltf, min] = files.split(',');
         return { label, json, gltf, min: min === undefined ? undefined : Number(min) };
     });
+    const mtlx = jobs.filter(isMtlx).length;
+    if (mtlx !== 0 && mtlx !== jobs.length) {
+        console.error('the jobs of one run are all glTF or all MaterialX');
+        return 2;
+    }
     let browser;
     try {
         browser = await launch(require, chromium);
@@ -210,8 +255,8 @@ async function main() {
         const page = await browser.context.newPage();
         page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
         page.on('pageerror', (e) => errors.push(e.message));
-        await page.goto(`http://127.0.0.1:${server.address().port}/`);
-        await page.waitForFunction(() => window.pageReady === true, null, { timeout: 30000 });
+        await page.goto(`http://127.0.0.1:${server.address().port}/${mtlx ? 'mtlx.html' : ''}`);
+        await page.waitForFunction(() => window.pageReady === true, null, { timeout: 60000 });
         const info = await page.evaluate(() => {
             const gl = document.createElement('canvas').getContext('webgl2');
             const d = gl && gl.getExtension('WEBGL_debug_renderer_info');

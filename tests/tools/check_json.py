@@ -16,6 +16,10 @@
         stages are those, in order; every stage is well formed, exactly
         the documented ones are kept, and the last kept stage's stop and
         iterations are the object's.
+    check_json.py exports OUT FORMAT:MODEL:REFIT...
+        the first line's "exports" (the last key) lists exactly those
+        exports, in order (REFIT true or false), each well formed; one that
+        is not a refit carries the fit's own error figures.
 """
 import json
 import math
@@ -156,6 +160,29 @@ def stages(path, converged, kinds):
     print("ok: %s" % " ".join(got))
 
 
+EXPORT_KEYS = ["format", "file", "model", "refit", "rms", "ngan", "cost"]
+
+
+def exports(path, specs):
+    obj = read_lines(path)[0]
+    if list(obj.keys())[-1:] != ["exports"] or not isinstance(obj["exports"], list):
+        fail("\"exports\" is not the last key of %s" % json.dumps(obj))
+    got = []
+    for e in obj["exports"]:
+        if (not isinstance(e, dict) or list(e.keys()) != EXPORT_KEYS
+                or e["format"] not in ("gltf", "mtlx") or not isinstance(e["file"], str)
+                or not isinstance(e["model"], str) or not isinstance(e["refit"], bool)
+                or not all(is_number(e[k]) and e[k] >= 0 for k in ("rms", "ngan", "cost"))):
+            fail("export not well formed: %s" % json.dumps(e))
+        if not e["refit"] and (e["model"] != obj["model"] or
+                               [e[k] for k in ("rms", "ngan", "cost")] != list(obj["errors"].values())):
+            fail("an export that is not a refit differs from the fit: %s" % json.dumps(e))
+        got.append("%s:%s:%s" % (e["format"], e["model"], "true" if e["refit"] else "false"))
+    if got != specs:
+        fail("exports %s, expected %s" % (got, specs))
+    print("ok: exports %s" % " ".join(got))
+
+
 def main(argv):
     if len(argv) >= 3 and argv[1] == "schema":
         schema(argv[2], argv[3:])
@@ -165,9 +192,11 @@ def main(argv):
         near(argv[2], float(argv[3]), argv[4:])
     elif len(argv) >= 5 and argv[1] == "stages":
         stages(argv[2], argv[3], argv[4:])
+    elif len(argv) >= 3 and argv[1] == "exports":
+        exports(argv[2], argv[3:])
     else:
         fail("usage: check_json.py schema OUT [FILE...] | near OUT REL NAME=V... | "
-             "stages OUT CONVERGED KIND[:INDEX]...")
+             "stages OUT CONVERGED KIND[:INDEX]... | exports OUT FORMAT:MODEL:REFIT...")
 
 
 if __name__ == "__main__":

@@ -241,6 +241,19 @@ static void refit_note(const fit_run *run, const fit_result *r, const cli_refit 
     fprintf(stderr, "brdffit: %s: note: %s\n", r->path, note);
 }
 
+/* What the records say of a written export (export_record.c). */
+static void record_export(fit_export *e, const char *file, const brdffit_model *model,
+                          const cli_refit *rf, const fit_result *r)
+{
+    e->written = 1;
+    e->refit = rf != NULL;
+    cli_format(e->file, sizeof e->file, "%s", file);
+    cli_format(e->model, sizeof e->model, "%s", brdffit_model_name(model));
+    e->rms = rf ? rf->rms : r->rms;
+    e->ngan = rf ? rf->ngan : r->ngan;
+    e->cost = rf ? rf->cost : r->cost;
+}
+
 /* --gltf or --mtlx (`mtlx`): the file named by `pattern` for this input;
  * a model that is not the export's own is refitted first (export_refit.c). */
 static void write_export(const fit_run *run, const brdffit_grid *grid, const brdffit_fit *fit,
@@ -251,7 +264,7 @@ static void write_export(const fit_run *run, const brdffit_grid *grid, const brd
     const char *what = mtlx ? "MaterialX" : "glTF";
     const brdffit_model *model = run->model;
     const double *params = r->params;
-    cli_refit rf = {NULL, NULL, 0.0, 0.0};
+    cli_refit rf = {NULL, NULL, 0.0, 0.0, 0.0};
     int rc = 0, refit = !cli_export_native(brdffit_model_name(model), mtlx);
     cli_base_name(r->path, base, sizeof base);
     if (name == NULL) {
@@ -276,7 +289,8 @@ static void write_export(const fit_run *run, const brdffit_grid *grid, const brd
     if (rc != 0) {
         cli_format(full, sizeof full, "%s %s: %s", what, name, msg);
         fail(r, BRDFFIT_E_IO, full);
-    }
+    } else
+        record_export(&r->exports[mtlx], name, model, refit ? &rf : NULL, r);
     cli_refit_free(&rf);
     free(name);
 }
@@ -289,6 +303,8 @@ static void fit_one(const fit_run *run, fit_result *r)
     brdffit_status st;
     char msg[CLI_MSG_SIZE];
     double t0;
+    r->exports[0].asked = run->opts->gltf != NULL;
+    r->exports[1].asked = run->opts->mtlx != NULL;
     if ((st = cli_load(r->path, &grid, &r->source, msg, sizeof msg)) != BRDFFIT_OK) {
         fail(r, st, msg);
         return;

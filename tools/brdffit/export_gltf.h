@@ -57,6 +57,7 @@ typedef struct cli_refit {
     brdffit_model *model; /* the target model (owned) */
     double *params;       /* its fitted vector (owned) */
     double rms, ngan;     /* its error figures on the data */
+    double cost;          /* and its cost under the fit's objective */
 } cli_refit;
 
 /* Fit model `target` to `grid` with the settings of `fitted` (cap,

@@ -62,6 +62,8 @@ int cli_export_refit(const brdffit_grid *grid, const brdffit_fit *fitted, const 
                brdffit_fit_error(fit, BRDFFIT_METRIC_RMS, BRDFFIT_ALL_CHANNELS, &out->rms) !=
                    BRDFFIT_OK ||
                brdffit_fit_error(fit, BRDFFIT_METRIC_NGAN, BRDFFIT_ALL_CHANNELS, &out->ngan) !=
+                   BRDFFIT_OK ||
+               brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &out->cost) !=
                    BRDFFIT_OK) {
         cli_format(msg, msg_size, "refit with %s: %s", target, brdffit_fit_message(fit));
     } else {

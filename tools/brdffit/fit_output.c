@@ -303,8 +303,10 @@ void fit_json(cli_buf *b, const fit_result *r)
     if (r->weighting & BRDFFIT_WEIGHT_COSINE) cli_buf_puts(b, "\"cosine\"");
     cli_buf_puts(b, "], \"clearcoat_r0\": ");
     cli_buf_json_number(b, r->clearcoat);
-    cli_buf_printf(b, ", \"max_iterations\": %zu, \"plausible\": %d}\n", r->max_iterations,
+    cli_buf_printf(b, ", \"max_iterations\": %zu, \"plausible\": %d", r->max_iterations,
                    r->plausible);
+    fit_exports_json(b, r);
+    cli_buf_puts(b, "}\n");
 }
 
 /* --- CSV ------------------------------------------------------------------------ */
@@ -342,6 +344,7 @@ void fit_csv_header(cli_buf *b, const fit_result *r)
     }
     cli_buf_puts(b, ",rms,ngan,cost,iterations,stop,fit_ms,warnings");
     cli_buf_puts(b, ",objective,cap_deg,weighting,clearcoat_r0,max_iterations,plausible,converged");
+    fit_exports_csv_header(b, r);
 }
 
 static void csv_number(cli_buf *b, double x)
@@ -395,5 +398,7 @@ void fit_csv_row(cli_buf *b, const fit_result *r)
     cli_weighting_names(b, r->weighting, ";");
     csv_number(b, r->clearcoat);
     cli_buf_printf(b, ",%zu,%d", r->max_iterations, r->plausible);
-    cli_buf_printf(b, ",%d\n", r->converged ? 1 : 0);
+    cli_buf_printf(b, ",%d", r->converged ? 1 : 0);
+    fit_exports_csv_row(b, r);
+    cli_buf_puts(b, "\n");
 }

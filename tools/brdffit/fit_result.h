@@ -12,6 +12,16 @@ typedef struct fit_warning {
     char text[256]; /* brdffit_fit_warning_text() */
 } fit_warning;
 
+/* One export of the fit (--gltf or --mtlx) as the records state it. */
+typedef struct fit_export {
+    int asked;             /* the option was given */
+    int written;           /* the file was written */
+    int refit;             /* it holds another model refitted to the data */
+    char file[256];        /* the file written */
+    char model[64];        /* the model whose parameters it holds */
+    double rms, ngan, cost; /* that model's error figures on the data */
+} fit_export;
+
 typedef struct fit_result {
     const char *path;
     const char *source; /* what cli_load() said about the file */
@@ -43,6 +53,7 @@ typedef struct fit_result {
     size_t n_stages;
     double *history, *lambdas;    /* n_history each: brdffit_fit_history_all() */
     size_t n_history;
+    fit_export exports[2];        /* [0] --gltf, [1] --mtlx */
 } fit_result;
 
 void fit_result_free(fit_result *r);
@@ -93,6 +104,13 @@ void fit_summary(cli_buf *b, const fit_result *r);
 void fit_json(cli_buf *b, const fit_result *r);
 void fit_csv_header(cli_buf *b, const fit_result *r);
 void fit_csv_row(cli_buf *b, const fit_result *r);
+
+/* export_record.c: the exports in the records, appended to the JSON object
+ * (', "exports": [...]' before its closing brace) and the CSV header and
+ * row, only when --gltf or --mtlx was given. */
+void fit_exports_json(cli_buf *b, const fit_result *r);
+void fit_exports_csv_header(cli_buf *b, const fit_result *r);
+void fit_exports_csv_row(cli_buf *b, const fit_result *r);
 
 /* report.c: the HTML page of a fitted result with the PNG bytes of its
  * preview (png->len 0: no picture), written atomically. */
