@@ -298,6 +298,47 @@ static void test_lobe_bound(void **state)
     }
 }
 
+/* The lobe descriptions agree with the declared parameters: every
+ * lobe's colour is a linear parameter and its sharpness a shared one
+ * (log-scaled), a Fresnel parameter lies in [0, 1]; the two-lobe models
+ * (exactly the built-ins with two lobes) have interchangeable lobes whose
+ * parameters differ in their last digit only (ns1 / ns2, cs1 / cs2); the
+ * coat models have no described lobes (their coat is a lobe of its own
+ * kind). */
+static void test_lobe_descriptions(void **state)
+{
+    size_t i, j, two = 0;
+    (void)state;
+    for (i = 0; i < brdffit_model_builtin_count(); i++) {
+        brdffit_model *m = make(brdffit_model_builtin_name(i));
+        const bf_lobes *lobes = bf_model_lobes(m);
+        for (j = 0; lobes != NULL && j < lobes->n; j++) {
+            const bf_lobe_desc *l = &lobes->lobe[j];
+            assert_true(brdffit_model_param(m, l->colour)->flags & BRDFFIT_PARAM_LINEAR);
+            assert_false(brdffit_model_param(m, l->shape)->flags & BRDFFIT_PARAM_PER_CHANNEL);
+            assert_true(brdffit_model_param(m, l->shape)->flags & BRDFFIT_PARAM_LOG_SCALE);
+            if (l->fresnel != BF_NO_PARAM) {
+                assert_true(brdffit_model_param(m, l->fresnel)->lower == 0.0);
+                assert_true(brdffit_model_param(m, l->fresnel)->upper == 1.0);
+            }
+        }
+        if (lobes != NULL && lobes->n == 2) {
+            const char *a = brdffit_model_param(m, lobes->lobe[0].shape)->name;
+            const char *b = brdffit_model_param(m, lobes->lobe[1].shape)->name;
+            size_t len = strlen(a);
+            two++;
+            assert_true(lobes->interchangeable);
+            assert_true(strncmp(a, b, len - 1) == 0 && a[len - 1] == '1' && b[len - 1] == '2');
+            assert_string_equal(brdffit_model_param(m, lobes->lobe[0].colour)->name, "cs1");
+            assert_string_equal(brdffit_model_param(m, lobes->lobe[1].colour)->name, "cs2");
+            assert_true(lobes->lobe[0].sharper_larger == (a[0] == 'n'));
+        }
+        if (strstr(brdffit_model_builtin_name(i), "coat") != NULL) assert_null(lobes);
+        brdffit_model_destroy(m);
+    }
+    assert_int_equal(two, 3); /* ashikhmin-shirley-2, cook-torrance-2, ggx-2 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -308,6 +349,7 @@ int main(void)
         cmocka_unit_test(test_quality),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_lobe_bound),
+        cmocka_unit_test(test_lobe_descriptions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
