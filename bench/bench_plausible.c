@@ -105,15 +105,17 @@ static void one_model(const brdffit_grid *grid, const char *name, size_t repeats
 
 int main(int argc, char **argv)
 {
-    static const char *const models[] = {"ashikhmin-shirley", "phong", "blinn-phong",
-                                         "cook-torrance", "ggx", "ward", "ggx-2"};
+    static const char *const models[] = {
+        "ashikhmin-shirley", "phong", "blinn-phong", "cook-torrance", "ggx", "ward", "ggx-2"};
     const char *filter = NULL;
     size_t repeats = 5, i;
     brdffit_grid *sample = NULL;
     int a;
     for (a = 1; a < argc; a++) {
-        if (strncmp(argv[a], "--repeats=", 10) == 0) repeats = (size_t)atoi(argv[a] + 10);
-        else if (strncmp(argv[a], "--filter=", 9) == 0) filter = argv[a] + 9;
+        if (strncmp(argv[a], "--repeats=", 10) == 0)
+            repeats = (size_t)atoi(argv[a] + 10);
+        else if (strncmp(argv[a], "--filter=", 9) == 0)
+            filter = argv[a] + 9;
         else {
             fprintf(stderr, "usage: %s [--repeats=N] [--filter=MODEL]\n", argv[0]);
             return 2;

@@ -31,11 +31,11 @@
 static const double ANGLES_DEG[N_ANGLES] = BF_ALBEDO_ANGLES_DEG;
 
 typedef struct lobe_spec {
-    const char *table;  /* C name of the table */
-    const char *model;  /* the one-lobe model it is taken from */
-    size_t shape;       /* declared index of the sharpness parameter */
-    long fresnel;       /* declared index of the Fresnel parameter, or -1 */
-    size_t colour;      /* declared index of the lobe's colour */
+    const char *table; /* C name of the table */
+    const char *model; /* the one-lobe model it is taken from */
+    size_t shape;      /* declared index of the sharpness parameter */
+    long fresnel;      /* declared index of the Fresnel parameter, or -1 */
+    size_t colour;     /* declared index of the lobe's colour */
 } lobe_spec;
 
 static const lobe_spec SPECS[] = {
@@ -59,8 +59,7 @@ static int albedo(brdffit_model *m, const lobe_spec *s, double x, double a[2][N_
     v[s->colour] = 1.0;
     for (f = 0; f < 2; f++) {
         if (s->fresnel >= 0) v[s->fresnel] = f == 0 ? 1.0 : 0.0;
-        if (brdffit_model_albedo(m, v, 1, angles, N_ANGLES, 0, a[f], NULL) != BRDFFIT_OK)
-            return 1;
+        if (brdffit_model_albedo(m, v, 1, angles, N_ANGLES, 0, a[f], NULL) != BRDFFIT_OK) return 1;
     }
     return 0;
 }
@@ -94,7 +93,7 @@ static void print_array(const char *name, const char *suffix, const double *v, s
 {
     size_t i;
     printf("static const double %s_%s[%zu] = {", name, suffix, n);
-    for (i = 0; i < n; i++) printf("%s %.8e,", i % per_line == 0 ? "\n   " : "", v[i]);
+    for (i = 0; i < n; i++) printf("%s %.7e,", i % per_line == 0 ? "\n   " : "", v[i]);
     printf("\n};\n");
 }
 
@@ -114,12 +113,12 @@ static int emit(const lobe_spec *s)
         if (albedo(m, s, pow(10.0, lo + (double)i / PER_DECADE), a[i]) != 0) return 1;
     if (midpoint_excess(m, s, lo, n, a, excess) != 0) return 1;
     for (i = 0; i < 2 * (n - 1); i++) worst = fmax(worst, excess[i]);
-    printf("\n/* %s: %s \"%s\", 10^%g .. 10^%g; largest midpoint excess %.3g */\n",
-           s->table, s->model, info->name, lo, hi, worst);
-    print_array(s->table, "values", &a[0][0][0], n * 2 * N_ANGLES, 2 * N_ANGLES);
-    print_array(s->table, "excess", excess, 2 * (n - 1), 8);
-    printf("const bf_albedo_table %s = {%.17g, %d, %zu, %s_values, %s_excess};\n", s->table, lo,
-           PER_DECADE, n, s->table, s->table);
+    printf("\n/* %s: %s \"%s\", 10^%g .. 10^%g;\n * largest midpoint excess %.3g */\n", s->table,
+           s->model, info->name, lo, hi, worst);
+    print_array(s->table, "values", &a[0][0][0], n * 2 * N_ANGLES, N_ANGLES);
+    print_array(s->table, "excess", excess, 2 * (n - 1), 6);
+    printf("const bf_albedo_table %s = {\n    %.17g, %d, %zu, %s_values, %s_excess};\n", s->table,
+           lo, PER_DECADE, n, s->table, s->table);
     brdffit_model_destroy(m);
     return 0;
 }

@@ -20,11 +20,11 @@ static const bf_lobes phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_phong}}};
 static const bf_lobes blinn_phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_blinn_phong}}};
 static const bf_lobes as = {1, 0, {{2, 0, 1, NO, &bf_albedo_ashikhmin}}};
 static const bf_lobes as_fresnel = {1, 0, {{3, 0, 1, 1, &bf_albedo_ashikhmin}}};
-static const bf_lobes as_2 = {2, 1, {{3, 0, 1, NO, &bf_albedo_ashikhmin},
-                                     {4, 1, 1, NO, &bf_albedo_ashikhmin}}};
+static const bf_lobes as_2 = {
+    2, 1, {{3, 0, 1, NO, &bf_albedo_ashikhmin}, {4, 1, 1, NO, &bf_albedo_ashikhmin}}};
 static const bf_lobes ct = {1, 0, {{3, 0, 0, 1, &bf_albedo_cook_torrance}}};
-static const bf_lobes ct_2 = {2, 1, {{4, 0, 0, 2, &bf_albedo_cook_torrance},
-                                     {5, 1, 0, 2, &bf_albedo_cook_torrance}}};
+static const bf_lobes ct_2 = {
+    2, 1, {{4, 0, 0, 2, &bf_albedo_cook_torrance}, {5, 1, 0, 2, &bf_albedo_cook_torrance}}};
 static const bf_lobes ggx = {1, 0, {{3, 0, 0, 1, &bf_albedo_ggx}}};
 static const bf_lobes ggx_2 = {2, 1, {{4, 0, 0, 2, &bf_albedo_ggx}, {5, 1, 0, 2, &bf_albedo_ggx}}};
 static const bf_lobes ward = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward}}};

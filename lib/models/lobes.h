@@ -32,10 +32,10 @@ typedef struct bf_albedo_table {
 
 /* One specular lobe: declared parameter indices. */
 typedef struct bf_lobe_desc {
-    size_t colour;                 /* its linear colour */
-    size_t shape;                  /* the parameter measuring its sharpness */
-    int sharper_larger;            /* 1: larger is sharper (an exponent); 0: smaller (a roughness) */
-    size_t fresnel;                /* a Fresnel parameter it is linear in (F0, Rs), or BF_NO_PARAM */
+    size_t colour;      /* its linear colour */
+    size_t shape;       /* the parameter measuring its sharpness */
+    int sharper_larger; /* 1: larger is sharper (an exponent); 0: smaller (a roughness) */
+    size_t fresnel;     /* a Fresnel parameter it is linear in (F0, Rs), or BF_NO_PARAM */
     const bf_albedo_table *albedo; /* its tabulated albedo, or NULL */
 } bf_lobe_desc;
 
