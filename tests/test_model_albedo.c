@@ -1,12 +1,14 @@
 /* Directional albedo (brdffit_model_albedo()): against closed forms that
  * do not share the library's quadrature (Lambert, the normalised Phong
  * lobe, the Blinn-Phong lobe at normal incidence, sharp lobes at oblique
- * incidence, a near-mirror GGX lobe), the quality setting, and every bad
- * input with its status. */
+ * incidence, a near-mirror GGX lobe), the quality setting, every bad
+ * input with its status, and the tabulated bound of the built-in lobes
+ * (models/lobes.h) against the integral. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "models/lobes.h"
 #include "test_support.h"
 
 #define PI 3.14159265358979323846
@@ -229,6 +231,114 @@ static void test_bad_input(void **state)
     brdffit_model_destroy(nan);
 }
 
+/* The largest albedo over the bound's angles of lobe l of model m with
+ * colour 1, the other colours 0, at sharpness x and Fresnel parameter f. */
+static double lobe_top(const brdffit_model *m, const bf_lobe_desc *l, double x, double f)
+{
+    static const double deg[BF_ALBEDO_ANGLES] = BF_ALBEDO_ANGLES_DEG;
+    double v[16], ti[BF_ALBEDO_ANGLES], a[BF_ALBEDO_ANGLES], top = 0.0;
+    size_t k, t, n = brdffit_model_param_count(m);
+    for (k = 0; k < n; k++) {
+        const brdffit_param_info *info = brdffit_model_param(m, k);
+        v[k] = info->flags & BRDFFIT_PARAM_LINEAR ? 0.0 : info->start;
+    }
+    v[l->shape] = x;
+    v[l->colour] = 1.0;
+    if (l->fresnel != BF_NO_PARAM) v[l->fresnel] = f;
+    for (t = 0; t < BF_ALBEDO_ANGLES; t++) ti[t] = deg[t] * PI / 180.0;
+    albedo_ok(m, v, 1, ti, BF_ALBEDO_ANGLES, 0, a);
+    for (t = 0; t < BF_ALBEDO_ANGLES; t++) top = fmax(top, a[t]);
+    return top;
+}
+
+/* For every built-in lobe with a table, at shapes between the nodes over
+ * its whole range (and two Fresnel values where it has one): the bound is
+ * never below the integral and at most 3 % above it. Also: user models and
+ * models without a lobe of a linear colour have no lobes, and a sharpness
+ * outside the table gives no bound (0). */
+static void test_lobe_bound(void **state)
+{
+    static const char *const names[] = {"phong", "blinn-phong", "ashikhmin-shirley",
+                                        "ashikhmin-shirley-fresnel", "cook-torrance", "ggx",
+                                        "ward", "ward-duer", "ggx-2"};
+    static const double F[2] = {0.04, 0.7};
+    double worst = 0.0;
+    size_t i, j, s;
+    (void)state;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
+        brdffit_model *m = make(names[i]);
+        const bf_lobes *lobes = bf_model_lobes(m);
+        const bf_lobe_desc *l;
+        assert_non_null(lobes);
+        l = &lobes->lobe[lobes->n - 1];
+        assert_non_null(l->albedo);
+        for (s = 0; s < 5; s++) {
+            /* 0.37, 2.74, ... cells into the table: between nodes */
+            double cell = 0.37 + (double)s * ((double)(l->albedo->n - 2) / 4.6);
+            double x = pow(10.0, l->albedo->log10_lo + cell / l->albedo->per_decade);
+            for (j = 0; j < (l->fresnel == BF_NO_PARAM ? 1u : 2u); j++) {
+                double truth = lobe_top(m, l, x, F[j]), bound = bf_lobe_albedo_bound(l, x, F[j]);
+                if (!(bound >= truth && bound <= 1.03 * truth))
+                    print_error("%s at %g, F %g: bound %.9g, integral %.9g\n", names[i], x,
+                                F[j], bound, truth);
+                assert_true(bound >= truth && bound <= 1.03 * truth);
+                worst = fmax(worst, bound / truth - 1.0);
+            }
+        }
+        assert_true(bf_lobe_albedo_bound(l, pow(10.0, l->albedo->log10_lo - 1.0), 0.5) == 0.0);
+        brdffit_model_destroy(m);
+    }
+    printf("largest excess of the bound over the integral: %.3g\n", worst);
+    {
+        brdffit_model *m = make("gltf"), *lam = make("lambert");
+        assert_null(bf_model_lobes(m));
+        assert_null(bf_model_lobes(lam));
+        brdffit_model_destroy(m);
+        brdffit_model_destroy(lam);
+    }
+}
+
+/* The lobe descriptions agree with the declared parameters: every
+ * lobe's colour is a linear parameter and its sharpness a shared one
+ * (log-scaled), a Fresnel parameter lies in [0, 1]; the two-lobe models
+ * (exactly the built-ins with two lobes) have interchangeable lobes whose
+ * parameters differ in their last digit only (ns1 / ns2, cs1 / cs2); the
+ * coat models have no described lobes (their coat is a lobe of its own
+ * kind). */
+static void test_lobe_descriptions(void **state)
+{
+    size_t i, j, two = 0;
+    (void)state;
+    for (i = 0; i < brdffit_model_builtin_count(); i++) {
+        brdffit_model *m = make(brdffit_model_builtin_name(i));
+        const bf_lobes *lobes = bf_model_lobes(m);
+        for (j = 0; lobes != NULL && j < lobes->n; j++) {
+            const bf_lobe_desc *l = &lobes->lobe[j];
+            assert_true(brdffit_model_param(m, l->colour)->flags & BRDFFIT_PARAM_LINEAR);
+            assert_false(brdffit_model_param(m, l->shape)->flags & BRDFFIT_PARAM_PER_CHANNEL);
+            assert_true(brdffit_model_param(m, l->shape)->flags & BRDFFIT_PARAM_LOG_SCALE);
+            if (l->fresnel != BF_NO_PARAM) {
+                assert_true(brdffit_model_param(m, l->fresnel)->lower == 0.0);
+                assert_true(brdffit_model_param(m, l->fresnel)->upper == 1.0);
+            }
+        }
+        if (lobes != NULL && lobes->n == 2) {
+            const char *a = brdffit_model_param(m, lobes->lobe[0].shape)->name;
+            const char *b = brdffit_model_param(m, lobes->lobe[1].shape)->name;
+            size_t len = strlen(a);
+            two++;
+            assert_true(lobes->interchangeable);
+            assert_true(strncmp(a, b, len - 1) == 0 && a[len - 1] == '1' && b[len - 1] == '2');
+            assert_string_equal(brdffit_model_param(m, lobes->lobe[0].colour)->name, "cs1");
+            assert_string_equal(brdffit_model_param(m, lobes->lobe[1].colour)->name, "cs2");
+            assert_true(lobes->lobe[0].sharper_larger == (a[0] == 'n'));
+        }
+        if (strstr(brdffit_model_builtin_name(i), "coat") != NULL) assert_null(lobes);
+        brdffit_model_destroy(m);
+    }
+    assert_int_equal(two, 3); /* ashikhmin-shirley-2, cook-torrance-2, ggx-2 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -238,6 +348,8 @@ int main(void)
         cmocka_unit_test(test_near_mirror_ggx),
         cmocka_unit_test(test_quality),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_lobe_bound),
+        cmocka_unit_test(test_lobe_descriptions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -437,8 +437,8 @@ static void test_no_better_than_mean(void **state)
 
 /* Two-lobe results come sharper lobe first, whichever order the data's
  * parameters or the start values have: ggx-2 data with the broad lobe
- * first give a1 < a2 with each lobe's colour; ashikhmin-shirley-2 gives
- * ns1 > ns2. */
+ * first give a1 < a2 with each lobe's colour (cook-torrance-2 m1 < m2);
+ * ashikhmin-shirley-2 gives ns1 > ns2. */
 static void check_order(const char *name, const double v[][8], size_t pipeline, int larger)
 {
     brdffit_model *model = make_model(name);
@@ -477,6 +477,7 @@ static void test_lobe_order(void **state)
     check_order("ggx-2", ggx, BRDFFIT_PIPELINE_JOINT, 0);
     check_order("ashikhmin-shirley-2", as, BRDFFIT_PIPELINE_AUTO, 1);
     check_order("ashikhmin-shirley-2", as, BRDFFIT_PIPELINE_JOINT, 1);
+    check_order("cook-torrance-2", ggx, BRDFFIT_PIPELINE_AUTO, 0); /* same layout as ggx-2 */
 }
 
 static void test_names(void **state)

@@ -96,6 +96,7 @@ static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *bes
     st->kind = BRDFFIT_STAGE_POLISH;
     st->label = sc->n_best;
     BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
+    BF_RETURN_IF_ERROR(rebound(st, work)); /* its colours within the bounds at its own shape */
     return keep_if_best(st, best, work);
 }
 

@@ -3,22 +3,28 @@
  * At one shape the model is linear in its colours, and so is each term's
  * directional albedo: term q with colour c_q reflects c_q A_q(theta_i) of
  * the light from theta_i, A_q the albedo of the term with colour 1. So
- * c_q <= 1 / max A_q is a box bound (setting 2; setting 1, the default,
- * keeps only the cheap diffuse bound below) that the profile (varpro.h,
- * profile_gn.h) and the polish honour exactly at that shape. The integral
- * costs about as much as a pass over a large grid per term, so the scan
- * bounds cd alone and each polish start and result gets the full bounds. The albedo of
- * all K terms comes from one brdffit_model_albedo() call with K channels,
- * channel j holding colour 1 in term j and 0 in the others. */
+ * c_q <= 1 / max A_q is a box bound that the profile (varpro.h,
+ * profile_gn.h) and the polish honour exactly at that shape.
+ *
+ * Setting 1 (the default) takes the cheap bounds everywhere, scan and
+ * polish: cd <= 1, and for a built-in model's specular lobe 1 / A from
+ * the lobe's tabulated albedo (models/lobes.h; an upper bound on A, so the
+ * colour bound is at most 0.1 % + the table's step tighter than the true
+ * one). Setting 2 takes the full integral at every polish start and
+ * result instead (it costs about as much as a pass over a large grid per
+ * term): the albedo of all K terms from one brdffit_model_albedo() call
+ * with K channels, channel j holding colour 1 in term j and 0 in the
+ * others; its scan keeps the cheap bounds. */
 #include "fit/plausible.h"
 
 #include <math.h>
 #include <string.h>
 
 #include "core/core.h"
+#include "models/lobes.h"
 
 /* Incidence angles (degrees) over which the largest albedo is taken. */
-static const double ANGLES_DEG[] = {0.0, 30.0, 50.0, 65.0, 75.0, 85.0};
+static const double ANGLES_DEG[] = BF_ALBEDO_ANGLES_DEG;
 #define N_ANGLES (sizeof ANGLES_DEG / sizeof ANGLES_DEG[0])
 
 static int has_param(const brdffit_model *model, const char *name, size_t *index)
@@ -79,6 +85,28 @@ static void diffuse_bound(const bf_stage *st, size_t K, double *bound)
         if (st->pb.ly.linear[q] == cd) bound[q] = fmin(bound[q], 1.0);
 }
 
+/* The value of declared shared parameter k at the shape of st->p. */
+static double shape_value(const bf_stage *st, size_t k)
+{
+    return st->p[st->vindex[k * st->pb.nc]];
+}
+
+/* The cheap lobe bounds: colour <= 1 / A, A the tabulated bound on the
+ * lobe's largest albedo at the shape of st->p (built-in models only). */
+static void lobe_bounds(const bf_stage *st, size_t K, double *bound)
+{
+    const bf_lobes *lobes = bf_model_lobes(st->pb.model);
+    size_t l, q;
+    for (l = 0; lobes != NULL && l < lobes->n; l++) {
+        const bf_lobe_desc *d = &lobes->lobe[l];
+        double f = d->fresnel == BF_NO_PARAM ? 1.0 : shape_value(st, d->fresnel);
+        double top = bf_lobe_albedo_bound(d, shape_value(st, d->shape), f);
+        for (q = 0; q < K; q++)
+            if (st->pb.ly.linear[q] == d->colour && top > 0.0)
+                bound[q] = fmin(bound[q], 1.0 / top);
+    }
+}
+
 brdffit_status bf_plausible_bounds(bf_stage *st, int full)
 {
     const bf_problem *pb = &st->pb;
@@ -87,6 +115,7 @@ brdffit_status bf_plausible_bounds(bf_stage *st, int full)
     if (!st->run->fit->plausible || K == 0 || K > BF_LSQ_MAX) return BRDFFIT_OK;
     for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
     if (full && st->run->fit->plausible >= 2) BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
+    else lobe_bounds(st, K, bound);
     diffuse_bound(st, K, bound);
     for (q = 0; q < K; q++) {
         double declared = brdffit_model_param(pb->model, pb->ly.linear[q])->upper;

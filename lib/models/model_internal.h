@@ -21,6 +21,13 @@ struct brdffit_model {
      * accumulate the normal equations from channel-independent sums. NULL
      * for user models. */
     const struct bf_kernel *kernel;
+    /* Built-in models: their specular lobes (models/lobes.h); NULL for user
+     * models and built-ins without a lobe of a linear colour. */
+    const struct bf_lobes *lobes;
 };
+
+/* The lobes of built-in model b (lobes.c), NULL when it has none. */
+struct bf_builtin;
+const struct bf_lobes *bf_builtin_lobes(const struct bf_builtin *b);
 
 #endif /* BRDFFIT_MODEL_INTERNAL_H */

@@ -76,8 +76,10 @@ class Fit(Handle):
     - ``max_iterations``: iteration limit of each LM run;
     - ``objective``: what the fit minimises, ``"squares"`` (default),
       ``"log"``, ``"cube-root"`` or ``"relative"`` (docs/fitting.md);
-    - ``plausible``: 0, 1 (default: the diffuse colour <= 1) or 2 (also
-      every term's directional albedo <= 1); True means 1, False 0;
+    - ``plausible``: 0, 1 (default: the diffuse colour <= 1 and each
+      built-in specular lobe's directional albedo <= 1, from a table) or 2
+      (every term's directional albedo <= 1 by the integral: slower); True
+      means 1, False 0;
     - ``start``: start vector, or ``{name: value}`` on top of the model's
       defaults (see :meth:`set_start`);
     - ``fixed``: names (or indices) of parameters to hold at their start
@@ -280,8 +282,10 @@ class Fit(Handle):
     @property
     def plausible(self) -> int:
         """How auto bounds the colours by energy conservation: 0 not at
-        all, 1 (default) the diffuse colour at most 1, 2 also every term's
-        directional albedo at most 1 (slower; ``BRDFFIT_FIT_PLAUSIBLE``)."""
+        all, 1 (default) the diffuse colour and each built-in specular
+        lobe's directional albedo (from a table) at most 1, 2 every term's
+        directional albedo at most 1 by the integral (slower;
+        ``BRDFFIT_FIT_PLAUSIBLE``)."""
         return int(self._get(_PLAUSIBLE))
 
     @plausible.setter

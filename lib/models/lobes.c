@@ -1,0 +1,98 @@
+/* The specular lobes of the built-in models: see lobes.h. Each built-in
+ * model with a lobe of a linear colour describes it here, next to no
+ * other property, so that the fit finds every lobe's parameters from the
+ * model's description rather than from its name. */
+#include "models/lobes.h"
+
+#include <math.h>
+
+#include "models/kernel.h"
+#include "models/model_internal.h"
+
+#define NO BF_NO_PARAM
+
+/* Parameters (declared order): phong, blinn-phong, ashikhmin-shirley: ns,
+ * cd, cs; ward, ward-duer: a, cd, cs; ashikhmin-shirley-fresnel: ns, Rs, cd,
+ * cs; cook-torrance, ggx: m (a), F0, cd, cs; lafortune: n, cz, cd, cs;
+ * ashikhmin-shirley-2: ns1, ns2, cd, cs1, cs2; cook-torrance-2, ggx-2: m1
+ * (a1), m2 (a2), F0, cd, cs1, cs2. */
+static const bf_lobes phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_phong}}};
+static const bf_lobes blinn_phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_blinn_phong}}};
+static const bf_lobes as = {1, 0, {{2, 0, 1, NO, &bf_albedo_ashikhmin}}};
+static const bf_lobes as_fresnel = {1, 0, {{3, 0, 1, 1, &bf_albedo_ashikhmin}}};
+static const bf_lobes as_2 = {
+    2, 1, {{3, 0, 1, NO, &bf_albedo_ashikhmin}, {4, 1, 1, NO, &bf_albedo_ashikhmin}}};
+static const bf_lobes ct = {1, 0, {{3, 0, 0, 1, &bf_albedo_cook_torrance}}};
+static const bf_lobes ct_2 = {
+    2, 1, {{4, 0, 0, 2, &bf_albedo_cook_torrance}, {5, 1, 0, 2, &bf_albedo_cook_torrance}}};
+static const bf_lobes ggx = {1, 0, {{3, 0, 0, 1, &bf_albedo_ggx}}};
+static const bf_lobes ggx_2 = {2, 1, {{4, 0, 0, 2, &bf_albedo_ggx}, {5, 1, 0, 2, &bf_albedo_ggx}}};
+static const bf_lobes ward = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward}}};
+static const bf_lobes ward_duer = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward_duer}}};
+/* Lafortune's albedo depends on n and cz alike: no table (a 2-D one
+ * would be needed), so only BRDFFIT_FIT_PLAUSIBLE 2 bounds its lobe. */
+static const bf_lobes lafortune = {1, 0, {{3, 0, 1, NO, NULL}}};
+
+/* Built-ins without an entry (lambert, the glTF and OpenPBR models) have no
+ * lobe with a linear colour: their colours are not linear parameters, and
+ * the coats of gltf-clearcoat and openpbr-coat are lobes of their own kind,
+ * not interchangeable with the base's. */
+static const struct {
+    const bf_builtin *model;
+    const bf_lobes *lobes;
+} TABLE[] = {
+    {&bf_builtin_phong, &phong},
+    {&bf_builtin_blinn_phong, &blinn_phong},
+    {&bf_builtin_ashikhmin_shirley, &as},
+    {&bf_builtin_ashikhmin_shirley_fresnel, &as_fresnel},
+    {&bf_builtin_ashikhmin_shirley_2, &as_2},
+    {&bf_builtin_cook_torrance, &ct},
+    {&bf_builtin_cook_torrance_2, &ct_2},
+    {&bf_builtin_ggx, &ggx},
+    {&bf_builtin_ggx_2, &ggx_2},
+    {&bf_builtin_ward, &ward},
+    {&bf_builtin_ward_duer, &ward_duer},
+    {&bf_builtin_lafortune, &lafortune},
+};
+
+const bf_lobes *bf_builtin_lobes(const bf_builtin *b)
+{
+    size_t i;
+    for (i = 0; i < sizeof TABLE / sizeof TABLE[0]; i++)
+        if (TABLE[i].model == b) return TABLE[i].lobes;
+    return NULL;
+}
+
+const bf_lobes *bf_model_lobes(const brdffit_model *m)
+{
+    return m != NULL ? m->lobes : NULL;
+}
+
+/* The albedo at node i and angle t for Fresnel parameter f. */
+static double node(const bf_albedo_table *a, size_t i, size_t t, double f)
+{
+    const double *v = a->values + 2 * i * BF_ALBEDO_ANGLES;
+    return f * v[t] + (1.0 - f) * v[BF_ALBEDO_ANGLES + t];
+}
+
+double bf_lobe_albedo_bound(const bf_lobe_desc *lobe, double shape, double fresnel)
+{
+    const bf_albedo_table *a = lobe->albedo;
+    double x, w, f = lobe->fresnel == NO ? 1.0 : fmin(fmax(fresnel, 0.0), 1.0);
+    double top = 0.0, col[2] = {0.0, 0.0};
+    size_t i, t;
+    if (a == NULL || a->n < 2) return 0.0;
+    /* outside the table (bounds wider than the declared ones): no bound */
+    x = shape > 0.0 ? (log10(shape) - a->log10_lo) * a->per_decade : -1.0;
+    if (!(x >= -1e-9 && x <= (double)(a->n - 1) + 1e-9)) return 0.0;
+    x = fmin(fmax(x, 0.0), (double)(a->n - 1));
+    i = x >= (double)(a->n - 1) ? a->n - 2 : (size_t)x;
+    w = x - (double)i;
+    for (t = 0; t < BF_ALBEDO_ANGLES; t++) {
+        top = fmax(top, (1.0 - w) * node(a, i, t, f) + w * node(a, i + 1, t, f));
+        col[0] = fmax(col[0], (1.0 - w) * node(a, i, t, 1.0) + w * node(a, i + 1, t, 1.0));
+        col[1] = fmax(col[1], (1.0 - w) * node(a, i, t, 0.0) + w * node(a, i + 1, t, 0.0));
+    }
+    return top * (1.0 + 1e-3) +
+           2.0 * (f * a->excess[2 * i] * col[0] + (1.0 - f) * a->excess[2 * i + 1] * col[1]);
+}

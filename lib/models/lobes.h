@@ -1,0 +1,68 @@
+/* The specular lobes of the built-in models, as the rest of the library
+ * sees them: which parameters make each lobe, which one measures its
+ * sharpness and in which direction, and a cheap upper bound on its
+ * directional albedo (the fit's plausibility, fit/plausible.c, and the
+ * canonical lobe order, fit/canonical.c). Not installed. */
+#ifndef BRDFFIT_MODELS_LOBES_H
+#define BRDFFIT_MODELS_LOBES_H
+
+#include <stddef.h>
+
+#include "brdffit/model.h"
+
+/* Incidence angles of the tables and of the bound (degrees): those of the
+ * full bound of BRDFFIT_FIT_PLAUSIBLE 2 (fit/plausible.c). */
+#define BF_ALBEDO_ANGLES 6
+#define BF_ALBEDO_ANGLES_DEG {0.0, 30.0, 50.0, 65.0, 75.0, 85.0}
+
+/* The albedo of a lobe with colour 1 at n nodes of its sharpness parameter
+ * s, s_i = 10^(log10_lo + i / per_decade): values[(2 i + f) * 6 + t] at
+ * incidence angle t with the lobe's Fresnel parameter at 1 (f = 0) and at 0
+ * (f = 1); the lobe is linear in it. Generated offline
+ * (scripts/gen_albedo_tables.c; lib/models/albedo_tables.c). */
+typedef struct bf_albedo_table {
+    double log10_lo;
+    int per_decade;
+    size_t n;
+    const double *values;
+    const double *excess; /* excess[2 i + f], cell i from node i to i + 1: see the generator */
+} bf_albedo_table;
+
+#define BF_NO_PARAM ((size_t)-1)
+
+/* One specular lobe: declared parameter indices. */
+typedef struct bf_lobe_desc {
+    size_t colour;      /* its linear colour */
+    size_t shape;       /* the parameter measuring its sharpness */
+    int sharper_larger; /* 1: larger is sharper (an exponent); 0: smaller (a roughness) */
+    size_t fresnel;     /* a Fresnel parameter it is linear in (F0, Rs), or BF_NO_PARAM */
+    const bf_albedo_table *albedo; /* its tabulated albedo, or NULL */
+} bf_lobe_desc;
+
+/* The lobes of a model. */
+typedef struct bf_lobes {
+    size_t n;            /* 1 or 2 */
+    int interchangeable; /* two lobes that are the same function of their own parameters */
+    bf_lobe_desc lobe[2];
+} bf_lobes;
+
+/* The lobes of a built-in model with specular lobes of a linear colour;
+ * NULL for the others and for user models. */
+const bf_lobes *bf_model_lobes(const brdffit_model *m);
+
+/* An upper bound on the largest directional albedo over the angles above
+ * of the lobe with colour 1 at sharpness `shape` and Fresnel parameter F
+ * `fresnel` (1 without one): the largest over the angles of the
+ * interpolation, linear in log10(shape) and in F, of the two table nodes
+ * around `shape`, times 1 + 10^-3 (the quadrature's error), plus twice the
+ * cell's midpoint excess of each column times that column's largest
+ * interpolated value, weighted F and 1 - F (the interpolation's error).
+ * 0 when the lobe has no table or `shape` lies outside its range. Pure;
+ * thread-safe. */
+double bf_lobe_albedo_bound(const bf_lobe_desc *lobe, double shape, double fresnel);
+
+/* The tables (albedo_tables.c). */
+extern const bf_albedo_table bf_albedo_phong, bf_albedo_blinn_phong, bf_albedo_ashikhmin,
+    bf_albedo_cook_torrance, bf_albedo_ggx, bf_albedo_ward, bf_albedo_ward_duer;
+
+#endif /* BRDFFIT_MODELS_LOBES_H */
