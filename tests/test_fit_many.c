@@ -467,8 +467,11 @@ static void check_cancel(size_t threads, int through_fit)
     log.cancel_at = 3;
     log.cancel_fit = through_fit ? fit : NULL;
     assert_int_equal(brdffit_fit_many(fit, n, f.values, NULL, &r->out, on_progress, &log), 0);
+    /* one thread stops exactly there; with two, the other thread finishes
+     * what it has begun and takes no new item once it sees the request,
+     * however late the scheduler lets it see it: far fewer than all */
     if (threads == 1) assert_int_equal(r->out.n_run, 3);
-    assert_true(r->out.n_run >= 3 && r->out.n_run < 20);
+    assert_true(r->out.n_run >= 3 && r->out.n_run < n / 2);
     for (i = 0; i < n; i++) {
         if (i < r->out.n_run) {
             single_fit(f.m, &f.g, f.values, NULL, auto_options, ref, i);
