@@ -2,7 +2,8 @@
  * (plain C, baseline vectors, AVX2, AVX-512; the ones this CPU runs) give
  * the same bits, and they agree with the unfused basis route (scratch
  * arrays and dot products, a different summation order) to rounding, for
- * every kind of pass it serves, every one-lobe model, values read in place
+ * every kind of pass it serves, every model of the lobe form (Lambert,
+ * the one-lobe models, the two-lobe Ashikhmin-Shirley), values read in place
  * and loaded (channel mean, clear coat), on grids whose chunks end in a
  * partial group of lanes. */
 #include <math.h>
@@ -68,6 +69,8 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     /* ns 40 (exp over a wide range), cd and cs per channel */
     s->params[0] = 40.0;
     for (k = 1; k < pb->ly.n_vec; k++) s->params[k] = 0.05 + 0.1 * (double)k;
+    /* the second lobe of the two-lobe model sharper than the first */
+    if (strcmp(model, "ashikhmin-shirley-2") == 0) s->params[s->vindex[nc]] = 300.0;
     /* room for the unfused route too (its scratch is larger) */
     pb->lobe = 0;
     s->work = calloc(bf_pass_work_size(pb), sizeof(double));
@@ -169,6 +172,18 @@ static void test_phong_and_blinn(void **state)
     check_case("blinn-phong", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
 }
 
+/* The lobe form without lobes and with two. */
+static void test_lambert_and_two_lobes(void **state)
+{
+    (void)state;
+    check_case("lambert", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("lambert", 1, BF_SOURCE_MEAN, 0.0, 75.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+    check_case("ashikhmin-shirley-2", 1, BF_SOURCE_MEAN, 0.0, 90.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.04, 75.0);
+}
+
 /* Values loaded by the driver instead of read in place. */
 static void test_loaded_values(void **state)
 {
@@ -217,6 +232,7 @@ int main(void)
         cmocka_unit_test(test_versions_this_cpu_runs),
         cmocka_unit_test(test_ashikhmin_shirley),
         cmocka_unit_test(test_phong_and_blinn),
+        cmocka_unit_test(test_lambert_and_two_lobes),
         cmocka_unit_test(test_loaded_values),
         cmocka_unit_test(test_what_it_serves),
     };
