@@ -129,20 +129,24 @@ void bf_fused_prepare(bf_problem *pb)
 {
     bf_lobe lobe;
     pb->isa = bf_fused_best_isa();
-    pb->lobe = pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe);
+    pb->lobe = 0;
+    if (pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe)) {
+        bf_basis_form f;
+        bf_kernel_form(pb->kernel, &f);
+        pb->lobe = 1 + (int)f.n_shape;
+    }
 }
 
-/* Lobes of the problem's kernel (the lobe form: one per shape parameter). */
+/* Lobes of the problem's kernel (the lobe form: one per shape parameter);
+ * read per chunk, so from pb rather than from the kernel. */
 static size_t lobes_of(const bf_problem *pb)
 {
-    bf_basis_form f;
-    bf_kernel_form(pb->kernel, &f);
-    return f.n_shape;
+    return (size_t)pb->lobe - 1;
 }
 
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
 {
-    return pb->lobe && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3) &&
+    return pb->lobe > 0 && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3) &&
            lobes_of(pb) <= MAX_LOBES;
 }
 
@@ -165,7 +169,6 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     const int in_place = bf_fused_in_place(pb, kind);
     bf_lobe lobe = {BF_LOBE_X_LOG_NH, BF_LOBE_G_ONE, 0.0, 0.0};
     size_t c, i, q;
-    memset(in, 0, sizeof *in);
     for (q = 0; q < nl; q++) {
         const double ns = params[pb->vindex[q * nc]];
         bf_kernel_lobe(pb->kernel, ns, &lobe);
@@ -174,6 +177,7 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
         in->dk[q] = lobe.dk;
     }
     in->w = sc->w;
+    in->x = in->g = NULL;
     if (nl > 0) {
         in->x = (lobe.x == BF_LOBE_X_LOG_NH ? geo->log_nh : geo->log_rv) + first;
         if (lobe.g == BF_LOBE_G_AS) {
