@@ -177,7 +177,18 @@ static void test_phong_and_blinn(void **state)
 /* The lobe form without lobes and with two. */
 static void test_lambert_and_two_lobes(void **state)
 {
+    setup s;
     (void)state;
+    /* pb.lobe is 1 + the lobes; the accumulators hold 8 lanes per sum */
+    setup_init(&s, "lambert", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 1);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 1 + 3) * 8);
+    setup_free(&s);
+    setup_init(&s, "ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 3);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 15 + 15) * 8);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_VARPRO), (6 + 3 * 4) * 8);
+    setup_free(&s);
     check_case("lambert", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
     check_case("lambert", 1, BF_SOURCE_MEAN, 0.0, 75.0);
     check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
