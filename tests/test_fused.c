@@ -2,7 +2,8 @@
  * (plain C, baseline vectors, AVX2, AVX-512; the ones this CPU runs) give
  * the same bits, and they agree with the unfused basis route (scratch
  * arrays and dot products, a different summation order) to rounding, for
- * every kind of pass it serves, every one-lobe model, values read in place
+ * every kind of pass it serves, every model of the lobe form (Lambert,
+ * the one-lobe models, the two-lobe Ashikhmin-Shirley), values read in place
  * and loaded (channel mean, clear coat), on grids whose chunks end in a
  * partial group of lanes. */
 #include <math.h>
@@ -26,6 +27,7 @@ typedef struct setup {
     size_t vindex[16];
     double params[16];
     double *work;
+    int lobe; /* pb.lobe as bf_pass_prepare() set it */
 } setup;
 
 /* The default axes with fx_value() measurements on nc channels. */
@@ -68,12 +70,15 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     /* ns 40 (exp over a wide range), cd and cs per channel */
     s->params[0] = 40.0;
     for (k = 1; k < pb->ly.n_vec; k++) s->params[k] = 0.05 + 0.1 * (double)k;
+    /* the second lobe of the two-lobe model sharper than the first */
+    if (strcmp(model, "ashikhmin-shirley-2") == 0) s->params[s->vindex[nc]] = 300.0;
     /* room for the unfused route too (its scratch is larger) */
+    s->lobe = pb->lobe;
     pb->lobe = 0;
     s->work = calloc(bf_pass_work_size(pb), sizeof(double));
     assert_non_null(s->work);
     pb->work = s->work;
-    pb->lobe = 1;
+    pb->lobe = s->lobe;
 }
 
 static void setup_free(setup *s)
@@ -114,7 +119,7 @@ static void check_case(const char *model, size_t nc, bf_source source, double co
         n = bf_pass_acc_size(&s.pb, kinds[k]);
         s.pb.lobe = 0;
         run(&s, kinds[k], ref);
-        s.pb.lobe = 1;
+        s.pb.lobe = s.lobe;
         s.pb.isa = BF_ISA_PLAIN;
         run(&s, kinds[k], plain);
         for (i = 0; i < n; i++) top = fmax(top, fabs(ref[i]));
@@ -169,6 +174,29 @@ static void test_phong_and_blinn(void **state)
     check_case("blinn-phong", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
 }
 
+/* The lobe form without lobes and with two. */
+static void test_lambert_and_two_lobes(void **state)
+{
+    setup s;
+    (void)state;
+    /* pb.lobe is 1 + the lobes; the accumulators hold 8 lanes per sum */
+    setup_init(&s, "lambert", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 1);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 1 + 3) * 8);
+    setup_free(&s);
+    setup_init(&s, "ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 3);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 15 + 15) * 8);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_VARPRO), (6 + 3 * 4) * 8);
+    setup_free(&s);
+    check_case("lambert", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("lambert", 1, BF_SOURCE_MEAN, 0.0, 75.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+    check_case("ashikhmin-shirley-2", 1, BF_SOURCE_MEAN, 0.0, 90.0);
+    check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.04, 75.0);
+}
+
 /* Values loaded by the driver instead of read in place. */
 static void test_loaded_values(void **state)
 {
@@ -217,6 +245,7 @@ int main(void)
         cmocka_unit_test(test_versions_this_cpu_runs),
         cmocka_unit_test(test_ashikhmin_shirley),
         cmocka_unit_test(test_phong_and_blinn),
+        cmocka_unit_test(test_lambert_and_two_lobes),
         cmocka_unit_test(test_loaded_values),
         cmocka_unit_test(test_what_it_serves),
     };

@@ -78,7 +78,8 @@ typedef struct bf_problem {
     const struct bf_route *route;  /* how chunks are accumulated */
     unsigned isa;                  /* the fused loop's version (BF_ISA_*): the best the
                                     * machine runs; a test may lower it */
-    int lobe;                      /* the kernel has the one-lobe form (models/basis.h) */
+    int lobe;                      /* 1 + its lobes when the kernel has the lobe form
+                                    * (models/basis.h), else 0 */
 } bf_problem;
 
 /* Choose the route of every pass of the problem from the routes' table;

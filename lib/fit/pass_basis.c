@@ -259,7 +259,7 @@ static void finish_varpro(const bf_problem *pb, const ebasis *eb, const double *
 static void basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,
                          const double *basis_acc, double *acc)
 {
-    double reduced[1 + 9 + 3 * 3];
+    double reduced[BF_FUSED_REDUCED_MAX];
     ebasis eb;
     ebasis_of(pb->kernel, &eb);
     if (bf_fused_serves(pb, kind)) {

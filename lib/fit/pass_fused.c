@@ -39,35 +39,44 @@
 #include "models/basis.h"
 
 /* width 8 or 4: the vector sweeps; 0: the plain C one */
-static inline void sweep_impl(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                              double *acc, int width)
+static inline void sweep_impl(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                              bf_pass_kind kind, double *acc, int width)
 {
 #if BF_LANES_VECTOR
     if (width == 8) {
-        sweep_w8(in, n, nc, kind, acc);
+        sweep_w8(in, n, nc, nl, kind, acc);
         return;
     }
     if (width == 4) {
-        sweep_w4(in, n, nc, kind, acc);
+        sweep_w4(in, n, nc, nl, kind, acc);
         return;
     }
 #endif
     (void)width;
-    sweep_plain(in, n, nc, kind, acc);
+    sweep_plain(in, n, nc, nl, kind, acc);
 }
 
-/* nc and kind made constants for the compiler */
-static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                             double *acc, int width)
+/* kind made a constant for the compiler */
+static inline void sweep_kind(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                              bf_pass_kind kind, double *acc, int width)
+{
+    if (kind == BF_PASS_NORMAL) sweep_impl(in, n, nc, nl, BF_PASS_NORMAL, acc, width);
+    else if (kind == BF_PASS_COST) sweep_impl(in, n, nc, nl, BF_PASS_COST, acc, width);
+    else sweep_impl(in, n, nc, nl, BF_PASS_VARPRO, acc, width);
+}
+
+/* nc and nl too */
+static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                             bf_pass_kind kind, double *acc, int width)
 {
     if (nc == 3) {
-        if (kind == BF_PASS_NORMAL) sweep_impl(in, n, 3, BF_PASS_NORMAL, acc, width);
-        else if (kind == BF_PASS_COST) sweep_impl(in, n, 3, BF_PASS_COST, acc, width);
-        else sweep_impl(in, n, 3, BF_PASS_VARPRO, acc, width);
+        if (nl == 1) sweep_kind(in, n, 3, 1, kind, acc, width);
+        else if (nl == 2) sweep_kind(in, n, 3, 2, kind, acc, width);
+        else sweep_kind(in, n, 3, 0, kind, acc, width);
     } else {
-        if (kind == BF_PASS_NORMAL) sweep_impl(in, n, 1, BF_PASS_NORMAL, acc, width);
-        else if (kind == BF_PASS_COST) sweep_impl(in, n, 1, BF_PASS_COST, acc, width);
-        else sweep_impl(in, n, 1, BF_PASS_VARPRO, acc, width);
+        if (nl == 1) sweep_kind(in, n, 1, 1, kind, acc, width);
+        else if (nl == 2) sweep_kind(in, n, 1, 2, kind, acc, width);
+        else sweep_kind(in, n, 1, 0, kind, acc, width);
     }
 }
 
@@ -80,28 +89,30 @@ static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, bf_pass_kin
 /* The versions, chosen per problem (bf_problem.isa). */
 #if BF_FUSED_HAVE_ISA
 __attribute__((target("avx512f"))) BF_FLATTEN static void
-sweep_avx512(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
+sweep_avx512(const lobe_in *in, size_t n, size_t nc, size_t nl, bf_pass_kind kind,
+             double *acc)
 {
-    sweep_any(in, n, nc, kind, acc, 8);
+    sweep_any(in, n, nc, nl, kind, acc, 8);
 }
 
 __attribute__((target("avx2"))) BF_FLATTEN static void
-sweep_avx2(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
+sweep_avx2(const lobe_in *in, size_t n, size_t nc, size_t nl, bf_pass_kind kind,
+             double *acc)
 {
-    sweep_any(in, n, nc, kind, acc, 4);
+    sweep_any(in, n, nc, nl, kind, acc, 4);
 }
 #endif
 
-BF_FLATTEN static void sweep_base(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                                  double *acc)
+BF_FLATTEN static void sweep_base(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                                  bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, kind, acc, 4);
+    sweep_any(in, n, nc, nl, kind, acc, 4);
 }
 
-BF_FLATTEN static void sweep_plain_c(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                                     double *acc)
+BF_FLATTEN static void sweep_plain_c(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                                     bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, kind, acc, 0);
+    sweep_any(in, n, nc, nl, kind, acc, 0);
 }
 
 unsigned bf_fused_best_isa(void)
@@ -118,12 +129,25 @@ void bf_fused_prepare(bf_problem *pb)
 {
     bf_lobe lobe;
     pb->isa = bf_fused_best_isa();
-    pb->lobe = pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe);
+    pb->lobe = 0;
+    if (pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe)) {
+        bf_basis_form f;
+        bf_kernel_form(pb->kernel, &f);
+        pb->lobe = 1 + (int)f.n_shape;
+    }
+}
+
+/* Lobes of the problem's kernel (the lobe form: one per shape parameter);
+ * read per chunk, so from pb rather than from the kernel. */
+static size_t lobes_of(const bf_problem *pb)
+{
+    return (size_t)pb->lobe - 1;
 }
 
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
 {
-    return pb->lobe && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3);
+    return pb->lobe > 0 && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3) &&
+           lobes_of(pb) <= MAX_LOBES;
 }
 
 int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
@@ -133,35 +157,41 @@ int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
 
 size_t bf_fused_acc_size(const bf_problem *pb, bf_pass_kind kind)
 {
-    return sums_of(kind, pb->nc) * LANES;
+    return sums_of(kind, pb->nc, lobes_of(pb)) * LANES;
 }
 
 /* The chunk's inputs: lobe constants, colours, geometry and values. */
 static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *params,
-                    const bf_scratch *sc, size_t n, lobe_in *in, double *g_local)
+                    const bf_scratch *sc, size_t n, size_t nl, lobe_in *in, double *g_local)
 {
     const bf_geometry *geo = bf_grid_geometry(pb->grid);
     const size_t first = sc->first, nc = pb->nc;
     const int in_place = bf_fused_in_place(pb, kind);
-    bf_lobe lobe;
-    size_t c, i;
-    bf_kernel_lobe(pb->kernel, params[0], &lobe);
-    in->ns = params[0];
-    in->k = lobe.k;
-    in->dk = lobe.dk;
+    bf_lobe lobe = {BF_LOBE_X_LOG_NH, BF_LOBE_G_ONE, 0.0, 0.0};
+    size_t c, i, q;
+    for (q = 0; q < nl; q++) {
+        const double ns = params[pb->vindex[q * nc]];
+        bf_kernel_lobe(pb->kernel, ns, &lobe);
+        in->ns[q] = ns;
+        in->k[q] = lobe.k;
+        in->dk[q] = lobe.dk;
+    }
     in->w = sc->w;
-    in->x = (lobe.x == BF_LOBE_X_LOG_NH ? geo->log_nh : geo->log_rv) + first;
-    if (lobe.g == BF_LOBE_G_AS) {
-        in->g = geo->as_g + first;
-    } else {
-        const double *rv = geo->rv + first;
-        int one = lobe.g == BF_LOBE_G_ONE;
-        for (i = 0; i < n; i++) g_local[i] = one || rv[i] > 0.0 ? 1.0 : 0.0;
-        in->g = g_local;
+    in->x = in->g = NULL;
+    if (nl > 0) {
+        in->x = (lobe.x == BF_LOBE_X_LOG_NH ? geo->log_nh : geo->log_rv) + first;
+        if (lobe.g == BF_LOBE_G_AS) {
+            in->g = geo->as_g + first;
+        } else {
+            const double *rv = geo->rv + first;
+            int one = lobe.g == BF_LOBE_G_ONE;
+            for (i = 0; i < n; i++) g_local[i] = one || rv[i] > 0.0 ? 1.0 : 0.0;
+            in->g = g_local;
+        }
     }
     for (c = 0; c < nc; c++) {
-        in->cd[c] = params[pb->vindex[1 * nc + c]];
-        in->cs[c] = params[pb->vindex[2 * nc + c]];
+        in->cd[c] = params[pb->vindex[nl * nc + c]];
+        for (q = 0; q < nl; q++) in->cs[q][c] = params[pb->vindex[(nl + 1 + q) * nc + c]];
         in->m[c] = in_place ? bf_grid_values(pb->grid, c) + first : sc->meas + c * n;
     }
 }
@@ -170,20 +200,21 @@ void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *param
                     bf_scratch *sc, size_t n)
 {
     double g_local[BF_CHUNK];
+    const size_t nl = lobes_of(pb);
     lobe_in in;
-    fill_in(pb, kind, params, sc, n, &in, g_local);
+    fill_in(pb, kind, params, sc, n, nl, &in, g_local);
 #if BF_FUSED_HAVE_ISA
     if (pb->isa == BF_ISA_AVX512) {
-        sweep_avx512(&in, n, pb->nc, kind, sc->acc);
+        sweep_avx512(&in, n, pb->nc, nl, kind, sc->acc);
         return;
     }
     if (pb->isa == BF_ISA_AVX2) {
-        sweep_avx2(&in, n, pb->nc, kind, sc->acc);
+        sweep_avx2(&in, n, pb->nc, nl, kind, sc->acc);
         return;
     }
 #endif
-    if (pb->isa == BF_ISA_PLAIN) sweep_plain_c(&in, n, pb->nc, kind, sc->acc);
-    else sweep_base(&in, n, pb->nc, kind, sc->acc);
+    if (pb->isa == BF_ISA_PLAIN) sweep_plain_c(&in, n, pb->nc, nl, kind, sc->acc);
+    else sweep_base(&in, n, pb->nc, nl, kind, sc->acc);
 }
 
 /* Lanes reduced in the fixed order of the file comment. */
@@ -192,29 +223,35 @@ static double lane_sum(const double *a)
     return ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
 }
 
+/* The upper triangle of an ne x ne Gram matrix from sums t0, t0 + 1, ..
+ * (row by row), into G[a * ne + b]. */
+static void reduce_gram(const double *lanes, size_t t0, size_t ne, double *G)
+{
+    size_t a, b, t = t0;
+    for (a = 0; a < ne; a++)
+        for (b = a; b < ne; b++) G[a * ne + b] = lane_sum(lanes + t++ * LANES);
+}
+
 void bf_fused_reduce(const bf_problem *pb, bf_pass_kind kind, const double *lanes,
                      double *basis_acc)
 {
-    /* sum index -> basis layout: NORMAL NE = 3, VARPRO L = 2 */
-    static const size_t g_normal[6] = {0, 1, 2, 4, 5, 8}, g_varpro[3] = {0, 1, 3};
-    const size_t nc = pb->nc;
-    size_t t, c;
+    const size_t nc = pb->nc, nl = lobes_of(pb), ne = n_ext(nl), L = 1 + nl;
+    size_t t;
     if (kind == BF_PASS_COST) {
         basis_acc[0] = lane_sum(lanes);
     } else if (kind == BF_PASS_NORMAL) {
-        double *G = basis_acc + 1, *H = basis_acc + 1 + 9;
-        memset(basis_acc, 0, (1 + 9 + 3 * nc) * sizeof *basis_acc);
+        const size_t ng = ne * (ne + 1) / 2;
+        double *G = basis_acc + 1, *H = basis_acc + 1 + ne * ne;
+        memset(basis_acc, 0, (1 + ne * ne + nc * ne) * sizeof *basis_acc);
         basis_acc[0] = lane_sum(lanes);
-        for (t = 0; t < 6; t++) G[g_normal[t]] = lane_sum(lanes + (1 + t) * LANES);
-        for (t = 0; t < 3 * nc; t++) H[t] = lane_sum(lanes + (7 + t) * LANES);
+        reduce_gram(lanes, 1, ne, G);
+        for (t = 0; t < nc * ne; t++) H[t] = lane_sum(lanes + (1 + ng + t) * LANES);
     } else {
-        double *G = basis_acc, *b = basis_acc + 4, *rr = b + 2 * nc;
-        memset(basis_acc, 0, (4 + 3 * nc) * sizeof *basis_acc);
-        for (t = 0; t < 3; t++) G[g_varpro[t]] = lane_sum(lanes + t * LANES);
-        for (c = 0; c < nc; c++) {
-            b[2 * c] = lane_sum(lanes + (3 + 2 * c) * LANES);
-            b[2 * c + 1] = lane_sum(lanes + (4 + 2 * c) * LANES);
-            rr[c] = lane_sum(lanes + (3 + 2 * nc + c) * LANES);
-        }
+        const size_t ng = L * (L + 1) / 2;
+        double *G = basis_acc, *b = basis_acc + L * L;
+        memset(basis_acc, 0, (L * L + nc * (L + 1)) * sizeof *basis_acc);
+        reduce_gram(lanes, 0, L, G);
+        /* b (nc x L) and then rr (nc): the same order as the sums */
+        for (t = 0; t < nc * (L + 1); t++) b[t] = lane_sum(lanes + (ng + t) * LANES);
     }
 }

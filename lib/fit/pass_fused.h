@@ -1,7 +1,7 @@
 /* The fused inner loop of the basis route (pass_fused.c): models of the
- * one-lobe form (models/basis.h: Ashikhmin-Shirley, Phong, Blinn-Phong)
- * on 1 or 3 channels, one register-resident sweep per chunk. Not
- * installed. */
+ * lobe form (models/basis.h: Lambert, Ashikhmin-Shirley and its two-lobe
+ * variant, Phong, Blinn-Phong) on 1 or 3 channels, one register-resident
+ * sweep per chunk. Not installed. */
 #ifndef BRDFFIT_FIT_PASS_FUSED_H
 #define BRDFFIT_FIT_PASS_FUSED_H
 
@@ -26,7 +26,8 @@ unsigned bf_fused_best_isa(void);
 void bf_fused_prepare(bf_problem *pb);
 
 /* Whether the fused loop accumulates the problem's passes of this kind
- * (COST, NORMAL, VARPRO of a one-lobe kernel with 1 or 3 channels; the
+ * (COST, NORMAL, VARPRO of a kernel of the lobe form with at most two
+ * lobes and 1 or 3 channels; the
  * basis route's own checks, a kernel and no missing values, come first). */
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind);
 
@@ -42,9 +43,14 @@ size_t bf_fused_acc_size(const bf_problem *pb, bf_pass_kind kind);
 void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
                     bf_scratch *sc, size_t n);
 
+/* Doubles of the largest reduced accumulator (NORMAL, two lobes, 3
+ * channels: 1 + 5 x 5 + 3 x 5). */
+#define BF_FUSED_REDUCED_MAX 41
+
 /* Reduce the summed lanes into the basis route's accumulator layout
  * (pass_basis.c: NORMAL [cost, G (NE x NE, upper), H (nc x NE)], VARPRO
- * [G (L x L, upper), b (nc x L), rr (nc)], COST [cost]). */
+ * [G (L x L, upper), b (nc x L), rr (nc)], COST [cost]); at most
+ * BF_FUSED_REDUCED_MAX doubles. */
 void bf_fused_reduce(const bf_problem *pb, bf_pass_kind kind, const double *lanes,
                      double *basis_acc);
 

@@ -16,21 +16,33 @@
 #include "fit/pass.h"
 
 #define LANES 8
-/* lanes of sums: NORMAL 7 + 3 nc, VARPRO 3 + 3 nc, COST 1 */
-#define MAX_SUMS 16
+/* lobes of the lobe form (models/basis.h) the loop runs: 0, 1 or 2 */
+#define MAX_LOBES 2
+/* lanes of sums with NE = 1 + 2 nl functions of the extended basis and
+ * L = 1 + nl linear ones: NORMAL 1 + NE (NE + 1) / 2 + nc NE, VARPRO
+ * L (L + 1) / 2 + nc (L + 1), COST 1; at most 31 */
+#define MAX_SUMS 32
 #define INV_PI (1.0 / BF_PI)
 
 typedef double lanes_t[LANES];
 
-/* One chunk's inputs. */
+/* One chunk's inputs: nl lobes sharing x and g (NULL without lobes). */
 typedef struct lobe_in {
     const double *w, *x, *g, *m[3];
-    double ns, k, dk, cd[3], cs[3];
+    double ns[MAX_LOBES], k[MAX_LOBES], dk[MAX_LOBES], cd[3], cs[MAX_LOBES][3];
 } lobe_in;
 
-static size_t sums_of(bf_pass_kind kind, size_t nc)
+static inline size_t n_ext(size_t nl)
 {
-    return kind == BF_PASS_NORMAL ? 7 + 3 * nc : kind == BF_PASS_VARPRO ? 3 + 3 * nc : 1;
+    return 1 + 2 * nl;
+}
+
+static inline size_t sums_of(bf_pass_kind kind, size_t nc, size_t nl)
+{
+    const size_t ne = n_ext(nl), l = 1 + nl;
+    return kind == BF_PASS_NORMAL   ? 1 + ne * (ne + 1) / 2 + nc * ne
+           : kind == BF_PASS_VARPRO ? l * (l + 1) / 2 + nc * (l + 1)
+                                    : 1;
 }
 
 /* A chunk's samples beyond the last multiple of LANES, padded to LANES
@@ -40,16 +52,18 @@ typedef struct tail_buf {
     double w[LANES], x[LANES], g[LANES], m[3][LANES];
 } tail_buf;
 
-static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, tail_buf *b,
-                            lobe_in *t)
+static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, size_t nl,
+                            tail_buf *b, lobe_in *t)
 {
     size_t l, c;
     memset(b, 0, sizeof *b);
     *t = *in;
     for (l = 0; i + l < n; l++) {
         b->w[l] = in->w[i + l];
-        b->x[l] = in->x[i + l];
-        b->g[l] = in->g[i + l];
+        if (nl > 0) {
+            b->x[l] = in->x[i + l];
+            b->g[l] = in->g[i + l];
+        }
         for (c = 0; c < nc; c++) b->m[c][l] = in->m[c][i + l];
     }
     t->w = b->w;
@@ -84,88 +98,78 @@ typedef struct sums_t {
     lanes_t v[MAX_SUMS];
 } sums_t;
 
-/* NORMAL: sums [cost, G00 G01 G02 G11 G12 G22, H_c0 H_c1 H_c2 ...]. */
-static inline void normal_group(const lobe_in *in, size_t i, size_t nc, sums_t *s)
+/* The lane's weighted basis u = w (1/pi, B_1 .. B_nl, dB_1 .. dB_nl) (the
+ * derivatives only for NORMAL) and the lobes' values b. */
+static inline void lane_basis(const lobe_in *in, size_t j, size_t nl, int derivs, double *u,
+                              double *b)
 {
-    size_t l, c;
-    for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l], x = in->x[i + l];
-        const double p = bf_exp(in->ns * x) * in->g[i + l];
-        const double b1 = in->k * p, db1 = (in->dk + in->k * x) * p;
-        const double u0 = w * INV_PI, u1 = w * b1, u2 = w * db1;
-        s->v[1][l] += u0 * u0;
-        s->v[2][l] += u0 * u1;
-        s->v[3][l] += u0 * u2;
-        s->v[4][l] += u1 * u1;
-        s->v[5][l] += u1 * u2;
-        s->v[6][l] += u2 * u2;
-        for (c = 0; c < nc; c++) {
-            const double d = ((-in->m[c][i + l] + in->cd[c] * INV_PI) + in->cs[c] * b1) * w;
-            s->v[0][l] += d * d;
-            s->v[7 + 3 * c][l] += u0 * d;
-            s->v[8 + 3 * c][l] += u1 * d;
-            s->v[9 + 3 * c][l] += u2 * d;
-        }
+    const double w = in->w[j];
+    size_t q;
+    u[0] = w * INV_PI;
+    for (q = 0; q < nl; q++) {
+        const double x = in->x[j], p = bf_exp(in->ns[q] * x) * in->g[j];
+        b[q] = in->k[q] * p;
+        u[1 + q] = w * b[q];
+        if (derivs) u[1 + nl + q] = w * ((in->dk[q] + in->k[q] * x) * p);
     }
 }
 
-/* COST: [cost]. */
-static inline void cost_group(const lobe_in *in, size_t i, size_t nc, sums_t *s)
+/* d_c = w (value_c - measured_c), in the order of the basis route */
+static inline double lane_residual(const lobe_in *in, size_t j, size_t c, size_t nl,
+                                   const double *b)
 {
-    size_t l, c;
+    double d = -in->m[c][j] + in->cd[c] * INV_PI;
+    size_t q;
+    for (q = 0; q < nl; q++) d = d + in->cs[q][c] * b[q];
+    return d * in->w[j];
+}
+
+/* NORMAL: sums [cost, G (upper, row by row), H_c (NE each)]; COST:
+ * [cost]; VARPRO: [G (L x L upper), b_c (L each), rr_c] of u = w (1/pi,
+ * B_1 ..) and the weighted values w m_c. */
+static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, bf_pass_kind kind,
+                         sums_t *s)
+{
+    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl) : 1 + nl;
+    const size_t ng = ne * (ne + 1) / 2;
+    size_t l, c, a, e, t;
     for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l];
-        const double b1 = in->k * (bf_exp(in->ns * in->x[i + l]) * in->g[i + l]);
+        double u[1 + 2 * MAX_LOBES], b[MAX_LOBES];
+        lane_basis(in, i + l, nl, kind == BF_PASS_NORMAL, u, b);
+        t = kind == BF_PASS_NORMAL ? 1 : 0;
+        if (kind != BF_PASS_COST)
+            for (a = 0; a < ne; a++)
+                for (e = a; e < ne; e++) s->v[t++][l] += u[a] * u[e];
         for (c = 0; c < nc; c++) {
-            const double d = ((-in->m[c][i + l] + in->cd[c] * INV_PI) + in->cs[c] * b1) * w;
-            s->v[0][l] += d * d;
+            if (kind == BF_PASS_VARPRO) {
+                const double r = in->w[i + l] * in->m[c][i + l];
+                for (a = 0; a < ne; a++) s->v[ng + c * ne + a][l] += u[a] * r;
+                s->v[ng + nc * ne + c][l] += r * r;
+            } else {
+                const double d = lane_residual(in, i + l, c, nl, b);
+                s->v[0][l] += d * d;
+                if (kind == BF_PASS_NORMAL)
+                    for (a = 0; a < ne; a++) s->v[1 + ng + c * ne + a][l] += u[a] * d;
+            }
         }
     }
 }
-
-/* VARPRO: [G00 G01 G11, b_c0 b_c1 ..., rr_c ...] of u = w (1/pi, k P) and
- * the weighted values w m_c. */
-static inline void varpro_group(const lobe_in *in, size_t i, size_t nc, sums_t *s)
-{
-    size_t l, c;
-    for (l = 0; l < LANES; l++) {
-        const double w = in->w[i + l];
-        const double b1 = in->k * (bf_exp(in->ns * in->x[i + l]) * in->g[i + l]);
-        const double u0 = w * INV_PI, u1 = w * b1;
-        s->v[0][l] += u0 * u0;
-        s->v[1][l] += u0 * u1;
-        s->v[2][l] += u1 * u1;
-        for (c = 0; c < nc; c++) {
-            const double r = w * in->m[c][i + l];
-            s->v[3 + 2 * c][l] += u0 * r;
-            s->v[4 + 2 * c][l] += u1 * r;
-            s->v[3 + 2 * nc + c][l] += r * r;
-        }
-    }
-}
-
-static inline void group(const lobe_in *in, size_t i, size_t nc, bf_pass_kind kind, sums_t *s)
-{
-    if (kind == BF_PASS_NORMAL) normal_group(in, i, nc, s);
-    else if (kind == BF_PASS_COST) cost_group(in, i, nc, s);
-    else varpro_group(in, i, nc, s);
-}
-
 
 /* The sweep over one chunk with nc and kind constant after inlining; the
  * lanes live in locals for the whole chunk. */
-static inline void sweep_plain(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind, double *acc)
+static inline void sweep_plain(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                               bf_pass_kind kind, double *acc)
 {
     sums_t a;
-    const size_t bytes = sums_of(kind, nc) * LANES * sizeof(double);
+    const size_t bytes = sums_of(kind, nc, nl) * LANES * sizeof(double);
     size_t i = 0;
     memcpy(&a, acc, bytes);
-    for (; i + LANES <= n; i += LANES) group(in, i, nc, kind, &a);
+    for (; i + LANES <= n; i += LANES) group(in, i, nc, nl, kind, &a);
     if (i < n) {
         tail_buf b;
         lobe_in t;
-        pad_tail(in, i, n, nc, &b, &t);
-        group(&t, 0, nc, kind, &a);
+        pad_tail(in, i, n, nc, nl, &b, &t);
+        group(&t, 0, nc, nl, kind, &a);
     }
     memcpy(acc, &a, bytes);
 }

@@ -66,49 +66,47 @@ static inline VD VN(vexp)(VD x)
     return p * (VD)(((VU)t + 1023u) << 52) * keep;
 }
 
-static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, VD b1, VD w)
+/* The residual, in the order of the plain version. */
+static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, size_t nl, const VD *b,
+                               VD w)
 {
-    return ((-VN(vload)(in->m[c] + i) + VN(vsplat)(in->cd[c] * INV_PI)) +
-            VN(vsplat)(in->cs[c]) * b1) *
-           w;
+    VD d = -VN(vload)(in->m[c] + i) + VN(vsplat)(in->cd[c] * INV_PI);
+    size_t q;
+    for (q = 0; q < nl; q++) d = d + VN(vsplat)(in->cs[q][c]) * b[q];
+    return d * w;
 }
 
 /* The sums of VW samples from i, in the layout of the plain version. */
-static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, bf_pass_kind kind, VD *s)
+static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl,
+                             bf_pass_kind kind, VD *s)
 {
-    const VD w = VN(vload)(in->w + i), x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k);
-    const VD p = VN(vexp)(VN(vsplat)(in->ns) * x) * VN(vload)(in->g + i);
-    const VD b1 = kk * p, u0 = w * VN(vsplat)(INV_PI), u1 = w * b1;
-    size_t c;
-    if (kind == BF_PASS_NORMAL) {
-        const VD u2 = w * ((VN(vsplat)(in->dk) + kk * x) * p);
-        s[1] += u0 * u0;
-        s[2] += u0 * u1;
-        s[3] += u0 * u2;
-        s[4] += u1 * u1;
-        s[5] += u1 * u2;
-        s[6] += u2 * u2;
-        for (c = 0; c < nc; c++) {
-            const VD d = VN(vresidual)(in, i, c, b1, w);
-            s[0] += d * d;
-            s[7 + 3 * c] += u0 * d;
-            s[8 + 3 * c] += u1 * d;
-            s[9 + 3 * c] += u2 * d;
-        }
-    } else if (kind == BF_PASS_COST) {
-        for (c = 0; c < nc; c++) {
-            const VD d = VN(vresidual)(in, i, c, b1, w);
-            s[0] += d * d;
-        }
-    } else {
-        s[0] += u0 * u0;
-        s[1] += u0 * u1;
-        s[2] += u1 * u1;
-        for (c = 0; c < nc; c++) {
+    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl) : 1 + nl;
+    const size_t ng = ne * (ne + 1) / 2;
+    const VD w = VN(vload)(in->w + i);
+    VD u[1 + 2 * MAX_LOBES], b[MAX_LOBES];
+    size_t q, a, e, c, t;
+    u[0] = w * VN(vsplat)(INV_PI);
+    for (q = 0; q < nl; q++) {
+        const VD x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k[q]);
+        const VD p = VN(vexp)(VN(vsplat)(in->ns[q]) * x) * VN(vload)(in->g + i);
+        b[q] = kk * p;
+        u[1 + q] = w * b[q];
+        if (kind == BF_PASS_NORMAL) u[1 + nl + q] = w * ((VN(vsplat)(in->dk[q]) + kk * x) * p);
+    }
+    t = kind == BF_PASS_NORMAL ? 1 : 0;
+    if (kind != BF_PASS_COST)
+        for (a = 0; a < ne; a++)
+            for (e = a; e < ne; e++) s[t++] += u[a] * u[e];
+    for (c = 0; c < nc; c++) {
+        if (kind == BF_PASS_VARPRO) {
             const VD r = w * VN(vload)(in->m[c] + i);
-            s[3 + 2 * c] += u0 * r;
-            s[4 + 2 * c] += u1 * r;
-            s[3 + 2 * nc + c] += r * r;
+            for (a = 0; a < ne; a++) s[ng + c * ne + a] += u[a] * r;
+            s[ng + nc * ne + c] += r * r;
+        } else {
+            const VD d = VN(vresidual)(in, i, c, nl, b, w);
+            s[0] += d * d;
+            if (kind == BF_PASS_NORMAL)
+                for (a = 0; a < ne; a++) s[1 + ng + c * ne + a] += u[a] * d;
         }
     }
 }
@@ -117,38 +115,44 @@ static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, bf_pass_kin
     if ((k) < n_sums) s[k] = VN(vload)(acc + (k) * LANES + off)
 #define VSTORE(k) \
     if ((k) < n_sums) memcpy(acc + (k) * LANES + off, &s[k], sizeof s[k])
+#define VLOAD8(k) \
+    VLOAD(k); VLOAD(k + 1); VLOAD(k + 2); VLOAD(k + 3); \
+    VLOAD(k + 4); VLOAD(k + 5); VLOAD(k + 6); VLOAD(k + 7)
+#define VSTORE8(k) \
+    VSTORE(k); VSTORE(k + 1); VSTORE(k + 2); VSTORE(k + 3); \
+    VSTORE(k + 4); VSTORE(k + 5); VSTORE(k + 6); VSTORE(k + 7)
 
 /* Lanes [off, off + VW) of every sum over one chunk, in registers. */
-static inline void VN(sweep_part)(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                                  double *acc, size_t off)
+static inline void VN(sweep_part)(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                                  bf_pass_kind kind, double *acc, size_t off)
 {
     VD s[MAX_SUMS];
-    const size_t n_sums = sums_of(kind, nc);
+    const size_t n_sums = sums_of(kind, nc, nl);
     size_t i = 0;
     /* written out, so that s[] has constant indices only and stays in
      * registers */
-    VLOAD(0); VLOAD(1); VLOAD(2); VLOAD(3); VLOAD(4); VLOAD(5); VLOAD(6); VLOAD(7);
-    VLOAD(8); VLOAD(9); VLOAD(10); VLOAD(11); VLOAD(12); VLOAD(13); VLOAD(14); VLOAD(15);
-    for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, kind, s);
+    VLOAD8(0); VLOAD8(8); VLOAD8(16); VLOAD8(24);
+    for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, nl, kind, s);
     if (i < n) {
         tail_buf b;
         lobe_in t;
-        pad_tail(in, i, n, nc, &b, &t);
-        VN(group)(&t, off, nc, kind, s);
+        pad_tail(in, i, n, nc, nl, &b, &t);
+        VN(group)(&t, off, nc, nl, kind, s);
     }
-    VSTORE(0); VSTORE(1); VSTORE(2); VSTORE(3); VSTORE(4); VSTORE(5); VSTORE(6); VSTORE(7);
-    VSTORE(8); VSTORE(9); VSTORE(10); VSTORE(11); VSTORE(12); VSTORE(13); VSTORE(14); VSTORE(15);
+    VSTORE8(0); VSTORE8(8); VSTORE8(16); VSTORE8(24);
 }
 
-static inline void VN(sweep)(const lobe_in *in, size_t n, size_t nc, bf_pass_kind kind,
-                             double *acc)
+static inline void VN(sweep)(const lobe_in *in, size_t n, size_t nc, size_t nl,
+                             bf_pass_kind kind, double *acc)
 {
     size_t off;
-    for (off = 0; off < LANES; off += VW) VN(sweep_part)(in, n, nc, kind, acc, off);
+    for (off = 0; off < LANES; off += VW) VN(sweep_part)(in, n, nc, nl, kind, acc, off);
 }
 
 #undef VLOAD
 #undef VSTORE
+#undef VLOAD8
+#undef VSTORE8
 #undef VD
 #undef VI
 #undef VU

@@ -43,10 +43,12 @@ const bf_kernel *bf_model_basis(const brdffit_model *m);
 /* The form of kernel k. */
 void bf_kernel_form(const bf_kernel *k, bf_basis_form *out);
 
-/* The one-lobe form of a kernel, for the fit's fused passes
- * (fit/pass_fused.c): B_0 = 1/pi and B_1 = k P, dB_1/dtheta_0 = (dk + k x) P
- * with P = exp(theta_0 x) g, where x and g are per-sample arrays of the
- * grid's geometry that do not depend on the parameters. */
+/* The lobe form of a kernel, for the fit's fused passes
+ * (fit/pass_fused.c): B_0 = 1/pi and one lobe per shape parameter s,
+ * B_{1+s} = k_s P_s, dB_{1+s}/dtheta_s = (dk_s + k_s x) P_s with
+ * P_s = exp(theta_s x) g, where x and g are per-sample arrays of the
+ * grid's geometry that do not depend on the parameters (the same for
+ * every lobe of the kernel). Lambert (K = 0) is the form without lobes. */
 typedef enum bf_lobe_x { BF_LOBE_X_LOG_NH, BF_LOBE_X_LOG_RV } bf_lobe_x;
 typedef enum bf_lobe_g {
     BF_LOBE_G_ONE,         /* g = 1 */
@@ -59,10 +61,11 @@ typedef struct bf_lobe {
     double k, dk; /* at the shape parameter theta_0 */
 } bf_lobe;
 
-/* Whether kernel k has the one-lobe form (K = 1, L = 2); if so, its
- * constants at shape parameter theta0 into *out. The fused pass computes
- * the same expressions as the kernel, so the same basis bits. */
-int bf_kernel_lobe(const bf_kernel *k, double theta0, bf_lobe *out);
+/* Whether kernel k has the lobe form (K lobes, L = K + 1); if so and
+ * K > 0, the constants of a lobe at its shape parameter theta into *out
+ * (x and g are the same for every theta). The fused pass computes the same
+ * expressions as the kernel, so the same basis bits. */
+int bf_kernel_lobe(const bf_kernel *k, double theta, bf_lobe *out);
 
 /* Fill the basis of samples [first, first + count) of the batch
  * (count <= BF_KERNEL_BLOCK) at the shape parameters `shape` (the first K

@@ -86,10 +86,10 @@ void bf_kernel_form(const bf_kernel *k, bf_basis_form *out)
     for (s = 0; s < BF_KERNEL_MAX_SHAPE; s++) out->dep[s] = k->dep[s];
 }
 
-int bf_kernel_lobe(const bf_kernel *k, double theta0, bf_lobe *out)
+int bf_kernel_lobe(const bf_kernel *k, double theta, bf_lobe *out)
 {
     if (k->lobe == NULL) return 0;
-    k->lobe(theta0, out);
+    if (k->n_shape > 0) k->lobe(theta, out);
     return 1;
 }
 

@@ -28,15 +28,17 @@
 typedef void (*bf_basis_fn)(const brdffit_batch *batch, size_t first, size_t count,
                             const double *shape, bf_basis *out);
 
-/* The one-lobe form's constants at shape parameter theta0 (basis.h). */
-typedef void (*bf_lobe_fn)(double theta0, bf_lobe *out);
+/* The lobe form's constants of one lobe at its shape parameter theta
+ * (basis.h); a kernel without shape parameters (Lambert) has one that is
+ * never called. */
+typedef void (*bf_lobe_fn)(double theta, bf_lobe *out);
 
 struct bf_kernel {
     size_t n_shape;                    /* K <= BF_KERNEL_MAX_SHAPE */
     size_t n_linear;                   /* L <= BF_KERNEL_MAX_LINEAR */
     unsigned dep[BF_KERNEL_MAX_SHAPE]; /* bit m set: B_m depends on shape k */
     bf_basis_fn basis;
-    bf_lobe_fn lobe;                   /* NULL: not of the one-lobe form */
+    bf_lobe_fn lobe;                   /* NULL: not of the lobe form */
 };
 
 /* Evaluate a kernel over a batch with the layouts of brdffit_model_eval_fn. */

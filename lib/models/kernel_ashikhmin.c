@@ -151,8 +151,8 @@ static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, co
     as_lobe(batch, first, count, shape[1], inv_den, out->b[2], out->db[1][2]);
 }
 
-/* ns1 -> cs1; ns2 -> cs2. */
-static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis, NULL};
+/* ns1 -> cs1; ns2 -> cs2; each lobe as as_lobe_form() says. */
+static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis, as_lobe_form};
 
 static brdffit_status as2_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)

@@ -2,6 +2,7 @@
  * lobes. Formulas as implemented are in docs/models.md. */
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include "core/core.h"
 #include "core/fastmath.h"
@@ -27,7 +28,14 @@ static void lambert_basis(const brdffit_batch *batch, size_t first, size_t count
     fill_diffuse(out->b[0], count);
 }
 
-static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis, NULL};
+/* Lambert is the lobe form without lobes (basis.h): this is never called. */
+static void lambert_lobe_form(double theta, bf_lobe *out)
+{
+    (void)theta;
+    memset(out, 0, sizeof *out);
+}
+
+static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis, lambert_lobe_form};
 
 static brdffit_status lambert_eval(const brdffit_batch *batch, const double *params,
                                    size_t n_channels, double *values, double *jacobian, void *user)
