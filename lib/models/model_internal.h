@@ -21,6 +21,9 @@ struct brdffit_model {
      * accumulate the normal equations from channel-independent sums. NULL
      * for user models. */
     const struct bf_kernel *kernel;
+    /* Built-in models affine in one per-channel colour: 1 + its declared
+     * index (bf_builtin.affine in models/kernel.h); 0 for the others. */
+    size_t affine;
 };
 
 #endif /* BRDFFIT_MODEL_INTERNAL_H */

@@ -61,5 +61,6 @@ brdffit_status brdffit_model_create(brdffit_model **out, const char *name,
     def.eval = b->eval;
     BF_RETURN_IF_ERROR(brdffit_model_create_custom(out, &def, alloc, err));
     (*out)->kernel = b->kernel;
+    (*out)->affine = b->affine;
     return BRDFFIT_OK;
 }
