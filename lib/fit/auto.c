@@ -127,7 +127,8 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
 
 /* Polish the best minimum and every other one whose scan cost is within a
  * factor 2 of it (the profile cost comes from normal equations and can
- * mislead by rounding when minima are close). Competing minima of one
+ * mislead by rounding when minima are close), every one kept for a model
+ * affine in its colour (its coarse scan: wants_repolish()). Competing minima of one
  * shape parameter are refined first; a single one needs no refinement: LM
  * converges from anywhere in its basin. */
 static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
@@ -137,7 +138,9 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     best_polish best = {HUGE_VAL, 0};
     double *work;
     brdffit_status status = BRDFFIT_OK;
-    while (n_polish < sc->n_best && sc->best[n_polish].cost <= 2.0 * sc->best[0].cost) n_polish++;
+    while (n_polish < sc->n_best &&
+           (st->pb.ly.offset || sc->best[n_polish].cost <= 2.0 * sc->best[0].cost))
+        n_polish++;
     if (sc->nd == 1 && n_polish > 1) BF_RETURN_IF_ERROR(bf_scan_refine(st, sc, n_polish));
     if (st->run->cancelled) return cancelled_result(st, sc);
     work = bf_calloc(a, 3 * st->n, sizeof *work);
