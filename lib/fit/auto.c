@@ -83,16 +83,27 @@ static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_pol
     return keep_if_best(st, best, work);
 }
 
-/* A best polish that made no iteration left a scan point as it was (LM
- * found no descent from it, e.g. on a plateau where a colour grows
- * without bound): one more polish from the model's start values (labelled
- * with the number of candidates), so the result is never an unpolished
- * scan point when a descent exists. */
-static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
+/* Whether to polish once more from the model's start values: when the
+ * best polish made no iteration, it left a scan point as it was (LM found
+ * no descent from it, e.g. on a plateau where a colour grows without
+ * bound), and the result must never be an unpolished scan point when a
+ * descent exists; and always for a model affine in its colour (layout.h):
+ * its scan runs over roughnesses whose lobe width goes as their square
+ * (alpha = r^2), two points a decade of r are one of alpha, and under a
+ * coat the coarse grid's best minima can all be the two lobes swapped. */
+static int wants_repolish(const bf_stage *st)
 {
     const bf_result *r = st->run->result;
-    if (r->iterations > 0 || r->stop != BRDFFIT_STOP_STALLED || st->run->cancelled)
-        return BRDFFIT_OK;
+    if (st->run->cancelled) return 0;
+    if (st->pb.ly.offset) return 1;
+    return r->iterations == 0 && r->stop == BRDFFIT_STOP_STALLED;
+}
+
+/* The polish from the model's start values (labelled with the number of
+ * candidates), when wants_repolish(). */
+static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
+{
+    if (!wants_repolish(st)) return BRDFFIT_OK;
     st->kind = BRDFFIT_STAGE_POLISH;
     st->label = sc->n_best;
     BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
@@ -117,7 +128,8 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
 
 /* Polish the best minimum and every other one whose scan cost is within a
  * factor 2 of it (the profile cost comes from normal equations and can
- * mislead by rounding when minima are close). Competing minima of one
+ * mislead by rounding when minima are close), every one kept for a model
+ * affine in its colour (its coarse scan: wants_repolish()). Competing minima of one
  * shape parameter are refined first; a single one needs no refinement: LM
  * converges from anywhere in its basin. */
 static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
@@ -127,7 +139,9 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     best_polish best = {HUGE_VAL, 0};
     double *work;
     brdffit_status status = BRDFFIT_OK;
-    while (n_polish < sc->n_best && sc->best[n_polish].cost <= 2.0 * sc->best[0].cost) n_polish++;
+    while (n_polish < sc->n_best &&
+           (st->pb.ly.offset || sc->best[n_polish].cost <= 2.0 * sc->best[0].cost))
+        n_polish++;
     if (sc->nd == 1 && n_polish > 1) BF_RETURN_IF_ERROR(bf_scan_refine(st, sc, n_polish));
     if (st->run->cancelled) return cancelled_result(st, sc);
     work = bf_calloc(a, 3 * st->n, sizeof *work);

@@ -135,9 +135,27 @@ static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac,
     }
 }
 
+/* The measured values of channel m less the model's colour-free offset
+ * B = value - sum_q p_q dvalue/dp_q of a model affine in its colours
+ * (layout.h), into rm: the offset moves to the right-hand side as held
+ * colours do (varpro.c). */
+static void remove_offset(const bf_problem *pb, const bf_scratch *sc, const double *jac,
+                          const double *params, size_t m, size_t n, double *restrict rm)
+{
+    const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
+    size_t K = pb->ly.n_linear, nc = pb->nc, q, s;
+    for (s = 0; s < n; s++) rm[s] = meas[s] - val[s];
+    for (q = 0; q < K; q++) {
+        const double p = params[pb->vindex[pb->ly.linear[q] * nc + m]];
+        const double *restrict bq = jac + (pb->ly.linear[q] * nc + m) * n;
+        for (s = 0; s < n; s++) rm[s] += p * bq[s];
+    }
+}
+
 /* Gram matrix of the weighted linear columns and their products with the
- * weighted measurement. */
-static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac, size_t n)
+ * weighted measurement (less the offset of an affine model). */
+static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
+                              const double *params, size_t n)
 {
     size_t K = pb->ly.n_linear, stride = 1 + K + K * K, nc = pb->nc, m, q, r;
     const size_t *lin = pb->ly.linear;
@@ -145,7 +163,8 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
         double *acc = sc->acc + m * stride, *b = acc + 1, *G = acc + 1 + K;
         double *rm = sc->d;
         row_weights(sc, m, n, sc->ww);
-        memcpy(rm, sc->meas + m * n, n * sizeof *rm);
+        if (pb->ly.offset) remove_offset(pb, sc, jac, params, m, n, rm);
+        else memcpy(rm, sc->meas + m * n, n * sizeof *rm);
         scale_rows(rm, sc->ww, n);
         acc[0] += bf_dot(rm, rm, n);
         for (q = 0; q < K; q++) scale_rows(jac + (lin[q] * nc + m) * n, sc->ww, n);
@@ -283,7 +302,7 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
     switch (kind) {
     case BF_PASS_COST: accumulate_cost(pb, sc, batch->lz, n); break;
     case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, batch->lz, n); break;
-    case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, n); break;
+    case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, params, n); break;
     case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
     }
     return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, batch, first, err);

@@ -112,7 +112,9 @@ brdffit_status bf_plausible_bounds(bf_stage *st, int full)
     const bf_problem *pb = &st->pb;
     size_t K = pb->ly.n_linear, q, m;
     double bound[BF_LSQ_MAX];
-    if (!st->run->fit->plausible || K == 0 || K > BF_LSQ_MAX) return BRDFFIT_OK;
+    /* an affine model's colour (layout.h) keeps its declared bounds: its
+     * unit term carries the colour-free offset, no albedo of c alone */
+    if (!st->run->fit->plausible || K == 0 || K > BF_LSQ_MAX || pb->ly.offset) return BRDFFIT_OK;
     for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
     if (full && st->run->fit->plausible >= 2) BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
     else lobe_bounds(st, K, bound);

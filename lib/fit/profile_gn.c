@@ -8,7 +8,9 @@
  * inside the colours' bounds (fit/lsq.h). A step that does not lower the
  * true cost is halved; the box is convex, so every halved step stays
  * feasible. Under the relative objective the residuals are linear in the
- * colours and the first step is exact. */
+ * colours and the first step is exact. A model affine in its colour
+ * (fit/layout.h) needs nothing more: J and r are taken at the current
+ * colours, so the model of the cost already holds the colour-free offset. */
 #include "fit/profile_gn.h"
 
 #include <math.h>

@@ -40,6 +40,12 @@ typedef struct bf_basis_form {
  * models). */
 const bf_kernel *bf_model_basis(const brdffit_model *m);
 
+/* Whether model m, which has no basis form, is affine in its one
+ * per-channel colour c: value_c(s) = A(s; theta) c_c + B(s; theta) with A
+ * and B free of every colour, theta its shared parameters (the glTF and
+ * OpenPBR models). If so, the colour's declared index into *colour. */
+int bf_model_affine(const brdffit_model *m, size_t *colour);
+
 /* The form of kernel k. */
 void bf_kernel_form(const bf_kernel *k, bf_basis_form *out);
 

@@ -78,6 +78,13 @@ const bf_kernel *bf_model_basis(const brdffit_model *m)
     return k != NULL && m->n_params == k->n_shape + k->n_linear ? k : NULL;
 }
 
+int bf_model_affine(const brdffit_model *m, size_t *colour)
+{
+    if (m->affine == 0 || m->affine > m->n_params) return 0;
+    *colour = m->affine - 1;
+    return 1;
+}
+
 void bf_kernel_form(const bf_kernel *k, bf_basis_form *out)
 {
     size_t s;

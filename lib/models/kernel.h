@@ -1,7 +1,7 @@
 /* The built-in model kernels (docs/models.md). Not installed.
  *
- * Every built-in model but the glTF ones (kernel_gltf.c, affine in their
- * colour) has the form
+ * Every built-in model but the glTF and OpenPBR ones (kernel_gltf.c,
+ * kernel_openpbr.c: affine in their colour, bf_builtin.affine) has the form
  *
  *     value_c(s) = sum over linear parameters m of p_{m,c} * B_m(s; theta)
  *
@@ -53,6 +53,11 @@ typedef struct bf_builtin {
     brdffit_model_eval_fn eval;
     const bf_kernel *kernel; /* the basis form, for the fit's fused passes; NULL
                               * for a model that has none (the glTF ones) */
+    size_t affine;           /* 1 + the declared index of the one per-channel
+                              * colour c a model without a basis form is affine
+                              * in (value_c = A c_c + B, A and B free of every
+                              * colour: the glTF and OpenPBR models); 0 for the
+                              * others (models/basis.h, bf_model_affine()) */
 } bf_builtin;
 
 /* Branch-free min and max for finite arguments (compile to minsd/maxsd and

@@ -79,7 +79,7 @@ static const brdffit_param_info as_params[] = {
 };
 
 const bf_builtin bf_builtin_ashikhmin_shirley = {"ashikhmin-shirley", 3, as_params, as_eval,
-                                                 &as_kernel};
+                                                 &as_kernel, 0};
 
 /* --- with Fresnel, shader form --------------------------------------------- */
 
@@ -136,7 +136,7 @@ static const brdffit_param_info asf_params[] = {
 };
 
 const bf_builtin bf_builtin_ashikhmin_shirley_fresnel = {"ashikhmin-shirley-fresnel", 4, asf_params,
-                                                         asf_eval, &asf_kernel};
+                                                         asf_eval, &asf_kernel, 0};
 
 /* --- two lobes: cd/pi + cs1 lobe(ns1) + cs2 lobe(ns2) ---------------------- */
 
@@ -170,4 +170,4 @@ static const brdffit_param_info as2_params[] = {
 };
 
 const bf_builtin bf_builtin_ashikhmin_shirley_2 = {"ashikhmin-shirley-2", 5, as2_params, as2_eval,
-                                                   &as2_kernel};
+                                                   &as2_kernel, 0};

@@ -12,7 +12,9 @@
  *
  * The model is affine, not linear, in baseColor (the specular layer of the
  * dielectric and the grazing part of the metal carry no colour), so it has
- * no basis form (models/kernel.h) and is evaluated through its callback. */
+ * no basis form (models/kernel.h) and is evaluated through its callback;
+ * it declares its affine form (bf_builtin.affine), through which the auto
+ * fit's profile solves baseColor exactly (fit/varpro.h). */
 #include <math.h>
 
 #include "core/core.h"
@@ -144,6 +146,8 @@ static const brdffit_param_info gltf_coat_params[] = {
     {"baseColor", BRDFFIT_PARAM_PER_CHANNEL, 0.0, 1.0, 0.5},
 };
 
-const bf_builtin bf_builtin_gltf = {"gltf", 3, gltf_params, gltf_eval, NULL};
+/* Affine in baseColor: f = A b + B with A = df/db of gltf_channel(), times
+ * t under the coat, and B the rest (the colourless specular and coat). */
+const bf_builtin bf_builtin_gltf = {"gltf", 3, gltf_params, gltf_eval, NULL, 1 + 2};
 const bf_builtin bf_builtin_gltf_clearcoat = {"gltf-clearcoat", 5, gltf_coat_params, gltf_coat_eval,
-                                              NULL};
+                                              NULL, 1 + 4};

@@ -63,4 +63,4 @@ static const brdffit_param_info lafortune_params[] = {
 };
 
 const bf_builtin bf_builtin_lafortune = {"lafortune", 4, lafortune_params, lafortune_eval,
-                                         &lafortune_kernel};
+                                         &lafortune_kernel, 0};

@@ -48,7 +48,8 @@ static const brdffit_param_info lambert_params[] = {
     {"cd", LINEAR_FLAGS, 0.0, HUGE_VAL, 0.2},
 };
 
-const bf_builtin bf_builtin_lambert = {"lambert", 1, lambert_params, lambert_eval, &lambert_kernel};
+const bf_builtin bf_builtin_lambert = {"lambert", 1, lambert_params, lambert_eval, &lambert_kernel,
+                                       0};
 
 /* --- Phong, normalised: cd/pi + (ns+2)/(2 pi) cs max(0, r.v)^ns ----------- */
 
@@ -97,7 +98,8 @@ static const brdffit_param_info cosine_lobe_params[] = {
     {"cs", LINEAR_FLAGS, 0.0, HUGE_VAL, 0.2},
 };
 
-const bf_builtin bf_builtin_phong = {"phong", 3, cosine_lobe_params, phong_eval, &phong_kernel};
+const bf_builtin bf_builtin_phong = {"phong", 3, cosine_lobe_params, phong_eval, &phong_kernel,
+                                     0};
 
 /* --- Blinn-Phong: cd/pi + (ns+8)/(8 pi) cs (n.h)^ns ----------------------- */
 
@@ -136,4 +138,4 @@ static brdffit_status blinn_eval(const brdffit_batch *batch, const double *param
 }
 
 const bf_builtin bf_builtin_blinn_phong = {"blinn-phong", 3, cosine_lobe_params, blinn_eval,
-                                           &blinn_kernel};
+                                           &blinn_kernel, 0};

@@ -272,8 +272,9 @@ static const brdffit_param_info ggx2_params[] = {
     {"cs2", LINEAR_FLAGS, 0.0, HUGE_VAL, 1.0},
 };
 
-const bf_builtin bf_builtin_cook_torrance = {"cook-torrance", 4, ct_params, ct_eval, &ct_kernel};
-const bf_builtin bf_builtin_ggx = {"ggx", 4, ggx_params, ggx_eval, &ggx_kernel};
+const bf_builtin bf_builtin_cook_torrance = {"cook-torrance", 4, ct_params, ct_eval, &ct_kernel,
+                                             0};
+const bf_builtin bf_builtin_ggx = {"ggx", 4, ggx_params, ggx_eval, &ggx_kernel, 0};
 const bf_builtin bf_builtin_cook_torrance_2 = {"cook-torrance-2", 6, ct2_params, ct2_eval,
-                                               &ct2_kernel};
-const bf_builtin bf_builtin_ggx_2 = {"ggx-2", 6, ggx2_params, ggx2_eval, &ggx2_kernel};
+                                               &ct2_kernel, 0};
+const bf_builtin bf_builtin_ggx_2 = {"ggx-2", 6, ggx2_params, ggx2_eval, &ggx2_kernel, 0};

@@ -19,7 +19,8 @@
  * approximation of OpenPBR (the layers' energy terms, the base's IOR under
  * the coat, no coat darkening) is in docs/models.md.
  *
- * Affine, not linear, in base_color (as glTF's BRDF), so no basis form. */
+ * Affine, not linear, in base_color (as glTF's BRDF), so no basis form;
+ * the affine form is declared (bf_builtin.affine) for the auto fit. */
 #include <math.h>
 
 #include "core/core.h"
@@ -202,6 +203,8 @@ static const brdffit_param_info openpbr_coat_params[] = {
     {"base_color", BRDFFIT_PARAM_PER_CHANNEL, 0.0, 1.0, 0.5},
 };
 
-const bf_builtin bf_builtin_openpbr = {"openpbr", 4, openpbr_params, openpbr_eval, NULL};
+/* Affine in base_color: op_base() is b out[4] plus a colourless rest, and
+ * the coat adds a colourless lobe and scales the base by w. */
+const bf_builtin bf_builtin_openpbr = {"openpbr", 4, openpbr_params, openpbr_eval, NULL, 1 + 3};
 const bf_builtin bf_builtin_openpbr_coat = {"openpbr-coat", 6, openpbr_coat_params,
-                                            openpbr_coat_eval, NULL};
+                                            openpbr_coat_eval, NULL, 1 + 5};

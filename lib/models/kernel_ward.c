@@ -74,6 +74,6 @@ static const brdffit_param_info ward_params[] = {
     {"cs", LINEAR_FLAGS, 0.0, HUGE_VAL, 0.2},
 };
 
-const bf_builtin bf_builtin_ward = {"ward", 3, ward_params, ward_eval, &ward_kernel};
+const bf_builtin bf_builtin_ward = {"ward", 3, ward_params, ward_eval, &ward_kernel, 0};
 const bf_builtin bf_builtin_ward_duer = {"ward-duer", 3, ward_params, ward_duer_eval,
-                                         &ward_duer_kernel};
+                                         &ward_duer_kernel, 0};

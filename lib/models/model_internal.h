@@ -24,6 +24,9 @@ struct brdffit_model {
     /* Built-in models: their specular lobes (models/lobes.h); NULL for user
      * models and built-ins without a lobe of a linear colour. */
     const struct bf_lobes *lobes;
+    /* Built-in models affine in one per-channel colour: 1 + its declared
+     * index (bf_builtin.affine in models/kernel.h); 0 for the others. */
+    size_t affine;
 };
 
 /* The lobes of built-in model b (lobes.c), NULL when it has none. */
