@@ -63,9 +63,13 @@ static void channel_step(const bf_stage *st, size_t m, double *target)
 }
 
 /* One step from st->p (cost f, NORMAL pass in st->acc): the full step to
- * the channels' targets, halved until the cost falls. On success st->p is
- * the new point and *f its cost; otherwise st->p is restored and *moved 0. */
-static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *target, int *moved)
+ * the channels' targets, tried with a NORMAL pass (accepted, it is the
+ * next step's pass: most steps cost one pass), then halved with COST
+ * passes until the cost falls. On success st->p is the new point, *f its
+ * cost and *fresh whether st->acc holds its NORMAL pass; otherwise st->p
+ * is restored and *moved 0. */
+static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *target, int *moved,
+                              int *fresh)
 {
     size_t m, e, h;
     double t = 1.0;
@@ -75,10 +79,11 @@ static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *tar
     *moved = 0;
     for (h = 0; h < BF_PROFILE_GN_HALVINGS; h++, t *= 0.5) {
         for (e = 0; e < st->n; e++) st->p[e] = from[e] + t * (target[e] - from[e]);
-        BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+        BF_RETURN_IF_ERROR(bf_stage_pass(st, h == 0 ? BF_PASS_NORMAL : BF_PASS_COST));
         if (st->acc[0] < *f) {
             *f = st->acc[0];
             *moved = 1;
+            *fresh = h == 0;
             return BRDFFIT_OK;
         }
     }
@@ -89,12 +94,14 @@ static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *tar
 static brdffit_status gn_steps(bf_stage *st, double *cost, double *work)
 {
     double f = 0.0, before;
-    int step, moved = 1;
+    int step, moved = 1, fresh = 0;
     for (step = 0; step < BF_PROFILE_GN_STEPS && moved; step++) {
-        BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
-        f = st->acc[0];
+        if (!fresh) {
+            BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
+            f = st->acc[0];
+        }
         before = f;
-        BF_RETURN_IF_ERROR(gn_step(st, &f, work, work + st->n, &moved));
+        BF_RETURN_IF_ERROR(gn_step(st, &f, work, work + st->n, &moved, &fresh));
         if (moved && before - f <= BF_PROFILE_GN_RTOL * before) break;
     }
     *cost = f; /* the cost at st->p: the last NORMAL pass's or the accepted step's */
