@@ -91,10 +91,44 @@ static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *tar
     return BRDFFIT_OK;
 }
 
-static brdffit_status gn_steps(bf_stage *st, double *cost, double *work)
+/* The start of the steps: the squared-value colours in st->p, or the
+ * colours of `warm` (another shape point's, clamped into this point's
+ * bounds) when their cost is lower. On return st->p is the start, *f its
+ * cost, and *fresh whether st->acc holds its NORMAL pass. `work` has
+ * n + 1 + n + n * n doubles (the point and its NORMAL sums, saved). */
+static brdffit_status warm_start(bf_stage *st, const double *warm, double *work, double *f,
+                                 int *fresh)
+{
+    const bf_problem *pb = &st->pb;
+    size_t n = st->n, n_acc = 1 + n + n * n, q, m;
+    double f0;
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
+    *f = f0 = st->acc[0];
+    *fresh = 1;
+    if (warm == NULL) return BRDFFIT_OK;
+    memcpy(work, st->p, n * sizeof *work);
+    memcpy(work + n, st->acc, n_acc * sizeof *work);
+    for (q = 0; q < pb->ly.n_linear; q++)
+        for (m = 0; m < pb->nc; m++) {
+            size_t e = st->vindex[pb->ly.linear[q] * pb->nc + m];
+            if (!st->fixed[e]) st->p[e] = fmin(fmax(warm[e], st->lower[e]), st->upper[e]);
+        }
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+    if (st->acc[0] < f0) {
+        *f = st->acc[0];
+        *fresh = 0;
+        return BRDFFIT_OK;
+    }
+    memcpy(st->p, work, n * sizeof *work);
+    memcpy(st->acc, work + n, n_acc * sizeof *work);
+    return BRDFFIT_OK;
+}
+
+static brdffit_status gn_steps(bf_stage *st, const double *warm, double *cost, double *work)
 {
     double f = 0.0, before;
     int step, moved = 1, fresh = 0;
+    BF_RETURN_IF_ERROR(warm_start(st, warm, work + 2 * st->n, &f, &fresh));
     for (step = 0; step < BF_PROFILE_GN_STEPS && moved; step++) {
         if (!fresh) {
             BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
@@ -110,6 +144,11 @@ static brdffit_status gn_steps(bf_stage *st, double *cost, double *work)
 
 brdffit_status bf_profile_gn(bf_stage *st, double *cost)
 {
+    return bf_profile_gn_from(st, NULL, cost);
+}
+
+brdffit_status bf_profile_gn_from(bf_stage *st, const double *warm, double *cost)
+{
     const brdffit_allocator *a = &st->run->fit->alloc;
     double *work;
     brdffit_status status;
@@ -119,9 +158,9 @@ brdffit_status bf_profile_gn(bf_stage *st, double *cost)
         *cost = st->acc[0];
         return BRDFFIT_OK;
     }
-    work = bf_calloc(a, 2 * st->n, sizeof *work);
+    work = bf_calloc(a, 4 * st->n + 1 + st->n * st->n, sizeof *work);
     if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
-    status = gn_steps(st, cost, work);
+    status = gn_steps(st, warm, cost, work);
     bf_free(a, work);
     return status;
 }
