@@ -1,10 +1,12 @@
 /* Branch-free elementary functions that the compiler can vectorise inside
  * the model kernels' sample loops (a call into libm would keep every such
- * loop scalar). Accurate to about one unit in the last place over the whole
- * double range; results are the same on every machine. Not installed. */
+ * loop scalar). Accurate to a few units in the last place over the whole
+ * double range (tests/test_fastmath.c); results are the same on every
+ * machine. Not installed. */
 #ifndef BRDFFIT_FASTMATH_H
 #define BRDFFIT_FASTMATH_H
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -44,6 +46,88 @@ static inline double bf_exp(double x)
     bits = (bits + 1023u) << 52;
     memcpy(&scale, &bits, sizeof scale);
     return p * scale * keep;
+}
+
+/* The real cube root of finite x, to at most a few units in the last place;
+ * NaN for NaN or an infinity (x - x carries it). A first guess from the
+ * high word of the bits divided by three, two Halley steps (each triples the
+ * correct digits: ~5e-2, ~1e-4, ~1e-12) and one Newton step rounding it
+ * off. Arguments below 2^-1000 (subnormals) are scaled by 2^162 and the
+ * root by 2^-54, those above 2^1000 the other way; 0 gives 0. Only
+ * arithmetic, selects and integer ops, so sample loops calling it
+ * vectorise. */
+static inline double bf_cbrt(double x)
+{
+    const double tiny = 0x1p-1000;
+    double a = x < 0.0 ? -x : x, sign = x < 0.0 ? -1.0 : 1.0, y, y3, scale;
+    uint64_t bits;
+    uint32_t hi;
+    int small = a < tiny, big = a > 0x1p1000;
+    a = small ? a * 0x1p162 : (big ? a * 0x1p-162 : a);
+    scale = small ? 0x1p-54 : (big ? 0x1p54 : 1.0);
+    a = a > tiny ? a : tiny; /* 0 stays away from the guess's division */
+    memcpy(&bits, &a, sizeof bits);
+    hi = (uint32_t)(bits >> 32) / 3u + 715094163u; /* the high word over 3 (fdlibm's B1) */
+    bits = (uint64_t)hi << 32;
+    memcpy(&y, &bits, sizeof y);
+    y3 = y * y * y;
+    y = y * ((y3 + 2.0 * a) / (2.0 * y3 + a));
+    y3 = y * y * y;
+    y = y * ((y3 + 2.0 * a) / (2.0 * y3 + a));
+    y = y - (y - a / (y * y)) / 3.0;
+    y = x == 0.0 ? 0.0 : y;
+    return sign * y * scale + (x - x);
+}
+
+/* ln x for x > 0 to about one unit in the last place; -HUGE_VAL at 0 and
+ * NaN below 0 or for NaN, as ln() of libm; +inf gives NaN (x - x). The
+ * mantissa m in [sqrt(1/2), sqrt(2)) and exponent k from the bits, then
+ * ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716, by its series to
+ * s^23 (truncation below 1e-18 relative). Subnormals are scaled by 2^60
+ * first. Only arithmetic, selects and integer ops: loops vectorise. */
+static inline double bf_log(double x)
+{
+    const double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
+    double a = x, m, f, s, z, p, k;
+    uint64_t bits;
+    int32_t e;
+    int small = a < 0x1p-1000;
+    a = small ? a * 0x1p60 : a;
+    a = a > 0x1p-1070 ? a : 1.0; /* 0 and below: any positive value, replaced at the end */
+    memcpy(&bits, &a, sizeof bits);
+    /* shift the mantissa's range to [sqrt(1/2), sqrt(2)) before splitting */
+    bits += 0x3ff0000000000000ULL - 0x3fe6a09e667f3bcdULL;
+    e = (int32_t)(uint32_t)(bits >> 52) - 1023;
+    bits = (bits & 0x000fffffffffffffULL) + 0x3fe6a09e667f3bcdULL;
+    memcpy(&m, &bits, sizeof m);
+    k = (double)e - (small ? 60.0 : 0.0);
+    f = m - 1.0;
+    s = f / (2.0 + f);
+    z = s * s;
+    p = 2.0 / 23.0;
+    p = p * z + 2.0 / 21.0;
+    p = p * z + 2.0 / 19.0;
+    p = p * z + 2.0 / 17.0;
+    p = p * z + 2.0 / 15.0;
+    p = p * z + 2.0 / 13.0;
+    p = p * z + 2.0 / 11.0;
+    p = p * z + 2.0 / 9.0;
+    p = p * z + 2.0 / 7.0;
+    p = p * z + 2.0 / 5.0;
+    p = p * z + 2.0 / 3.0;
+    /* ln m = f - s f + s (2/3 z + ...) * z ... written as f - s (f - p z) */
+    p = k * ln2_hi + (f - (s * (f - p * z) - k * ln2_lo));
+    p = x > 0.0 ? p : (x == 0.0 ? -HUGE_VAL : NAN);
+    return p + (x - x);
+}
+
+/* ln(1 + x) for x > -1, to a few units in the last place also for tiny x:
+ * ln w with w = 1 + x rounded, corrected by the rounding error of w
+ * ((w - 1) - x) / w. -HUGE_VAL at -1 and NaN below. Vectorises. */
+static inline double bf_log1p(double x)
+{
+    double w = 1.0 + x, u = w - 1.0, fix = (u - x) / (w != 0.0 ? w : 1.0);
+    return bf_log(w) - (w > 0.0 ? fix : 0.0);
 }
 
 #endif

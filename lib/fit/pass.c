@@ -32,8 +32,6 @@ void bf_pass_prepare(bf_problem *pb)
     pb->kernel = bf_model_basis(pb->model);
     pb->route = &bf_route_generic;
     bf_fused_prepare(pb);
-    /* only the generic route transforms residuals */
-    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES) return;
     for (i = 0; i < sizeof routes / sizeof routes[0]; i++)
         if (routes[i]->serves(pb)) {
             pb->route = routes[i];
@@ -41,10 +39,24 @@ void bf_pass_prepare(bf_problem *pb)
         }
 }
 
-/* The route that accumulates passes of this kind. */
+/* The route that accumulates passes of this kind. Only the generic route
+ * transforms residuals, so under another objective than the squares it
+ * takes COST and NORMAL; VARPRO is the squares of values whatever the
+ * objective and keeps the problem's route. */
 static const bf_route *route_for(const bf_problem *pb, bf_pass_kind kind)
 {
+    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES && kind != BF_PASS_VARPRO)
+        return &bf_route_generic;
     return (pb->route->kinds & (1u << kind)) ? pb->route : &bf_route_generic;
+}
+
+/* Doubles of the routes' own scratch: the problem's route's, and the
+ * generic route's when it takes COST and NORMAL (METRICS needs none of it). */
+static size_t own_size(const bf_problem *pb)
+{
+    size_t own = pb->route->scratch_size(pb), generic = 0;
+    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES) generic = bf_route_generic.scratch_size(pb);
+    return own > generic ? own : generic;
 }
 
 size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind)
@@ -75,7 +87,7 @@ static size_t max_acc_size(const bf_problem *pb)
 /* Doubles of scratch one thread needs (accumulator included). */
 static size_t scratch_size(const bf_problem *pb)
 {
-    return 4 * BF_CHUNK + 3 * pb->nc * BF_CHUNK + max_acc_size(pb) + pb->route->scratch_size(pb);
+    return 4 * BF_CHUNK + 3 * pb->nc * BF_CHUNK + max_acc_size(pb) + own_size(pb);
 }
 
 static size_t thread_count(const bf_problem *pb)
@@ -102,7 +114,7 @@ static void scratch_carve(bf_scratch *sc, double *p, const bf_problem *pb, size_
     sc->pres = sc->meas + cb;
     sc->vals = sc->pres + cb;
     sc->own = sc->vals + cb;
-    sc->acc = sc->own + pb->route->scratch_size(pb);
+    sc->acc = sc->own + own_size(pb);
     memset(sc->acc, 0, n_acc * sizeof *sc->acc);
 }
 

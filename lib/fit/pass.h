@@ -22,7 +22,8 @@
  *
  * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
  * for models in basis form (models/basis.h) on grids without missing
- * values under the squares objective, the generic route for any model and
+ * values, for every pass under the squares objective and for VARPRO (the
+ * squares of values) under any; the generic route for any model and
  * objective. bf_pass_prepare() chooses it once per problem. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H

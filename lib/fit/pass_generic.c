@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "core/linalg.h"
 #include "fit/pass_route.h"
 #include "models/models.h"
@@ -44,48 +45,50 @@ static void weighted_residuals(const bf_scratch *sc, size_t m, size_t n, double 
     for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
 }
 
-/* The objective's residual of one value (brdffit_objective in fit.h), and
- * its derivative in M into *slope. c = max(cos theta_i, 0). */
-static double objective_residual(const bf_problem *pb, double val, double meas, double c,
-                                 double *slope)
-{
-    double t;
-    switch (pb->objective) {
-    case BRDFFIT_OBJECTIVE_LOG:
-        *slope = c / (1.0 + c * val);
-        return log1p(c * val) - log1p(c * meas);
-    case BRDFFIT_OBJECTIVE_CUBE_ROOT:
-        /* the slope's pole at M = 0 is floored at |M| = delta */
-        t = cbrt(fmax(fabs(val), pb->delta));
-        *slope = cbrt(c) / (3.0 * t * t);
-        return cbrt(c * val) - cbrt(c * meas);
-    case BRDFFIT_OBJECTIVE_RELATIVE:
-        *slope = 1.0 / (fabs(meas) + pb->delta);
-        return (val - meas) * *slope;
-    case BRDFFIT_OBJECTIVE_SQUARES: break;
-    }
-    *slope = 1.0;
-    return val - meas;
-}
-
-/* Objective residuals rd = rw r(value, measured) of channel m, and the
- * row factors rw dr/dM into rw (in place). */
+/* Objective residuals rd = rw r(value, measured) of channel m
+ * (brdffit_objective in fit.h), and the row factors rw dr/dM into rw (in
+ * place); c = max(cos theta_i, 0). One branch-free loop per objective,
+ * with the vectorisable cube root and logarithm of core/fastmath.h, so the
+ * loops vectorise; a row of weight 0 (outside the fit or missing) gives 0. */
+BF_VECTOR_CLONES
 static void objective_rows(const bf_problem *pb, const bf_scratch *sc, size_t m,
-                           const double *lz, size_t n, double *restrict rd, double *restrict rw)
+                           const double *restrict lz, size_t n, double *restrict rd,
+                           double *restrict rw)
 {
     const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
+    const double delta = pb->delta, root_delta = bf_cbrt(pb->delta);
     size_t s;
-    for (s = 0; s < n; s++) {
-        double slope, c = lz[s] > 0.0 ? lz[s] : 0.0;
-        double r;
-        if (rw[s] == 0.0) {
-            rd[s] = 0.0; /* outside the fit or missing */
-            continue;
+    switch (pb->objective) {
+    case BRDFFIT_OBJECTIVE_LOG:
+        for (s = 0; s < n; s++) {
+            double c = lz[s] > 0.0 ? lz[s] : 0.0, on = rw[s] != 0.0 ? 1.0 : 0.0;
+            double cv = on * c * val[s], cm = on * c * meas[s];
+            rd[s] = rw[s] * (bf_log1p(cv) - bf_log1p(cm));
+            rw[s] *= c / (1.0 + cv);
         }
-        r = objective_residual(pb, val[s], meas[s], c, &slope);
-        rd[s] = rw[s] * r;
-        rw[s] *= slope;
+        return;
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT:
+        /* cbrt(c M) as cbrt(c) cbrt(|M|) with M's sign, and the slope's pole
+         * at M = 0 floored at |M| = delta: cbrt is monotonic, so the floor
+         * is max(cbrt |M|, cbrt delta) */
+        for (s = 0; s < n; s++) {
+            double c = lz[s] > 0.0 ? lz[s] : 0.0, on = rw[s] != 0.0 ? 1.0 : 0.0;
+            double v = on * val[s], tv = bf_cbrt(v < 0.0 ? -v : v), cc = bf_cbrt(c);
+            double t = tv > root_delta ? tv : root_delta;
+            rd[s] = rw[s] * ((v < 0.0 ? -cc : cc) * tv - bf_cbrt(on * c * meas[s]));
+            rw[s] *= cc / (3.0 * t * t);
+        }
+        return;
+    case BRDFFIT_OBJECTIVE_RELATIVE:
+        for (s = 0; s < n; s++) {
+            double slope = 1.0 / (fabs(meas[s]) + delta);
+            rd[s] = rw[s] * (val[s] - meas[s]) * slope;
+            rw[s] *= slope;
+        }
+        return;
+    case BRDFFIT_OBJECTIVE_SQUARES: break;
     }
+    for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
 }
 
 /* The rows of channel m: weighted residuals into sc->d and row factors

@@ -21,8 +21,10 @@
 
 /* Step halvings tried before a step counts as failed. */
 #define BF_PROFILE_GN_HALVINGS 5
-/* Relative cost decrease below which the steps stop. */
-#define BF_PROFILE_GN_RTOL 1e-10
+/* Relative cost decrease below which the steps stop: by then the steps
+ * converge about a hundredfold each (the next ones would change the scan
+ * cost by ~1e-8 relative), and every competing minimum is polished. */
+#define BF_PROFILE_GN_RTOL 1e-6
 
 /* Whether every linear parameter is per channel (each channel then has its
  * own K colours, as variable projection assumes). */
@@ -63,9 +65,13 @@ static void channel_step(const bf_stage *st, size_t m, double *target)
 }
 
 /* One step from st->p (cost f, NORMAL pass in st->acc): the full step to
- * the channels' targets, halved until the cost falls. On success st->p is
- * the new point and *f its cost; otherwise st->p is restored and *moved 0. */
-static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *target, int *moved)
+ * the channels' targets, tried with a NORMAL pass (accepted, it is the
+ * next step's pass: most steps cost one pass), then halved with COST
+ * passes until the cost falls. On success st->p is the new point, *f its
+ * cost and *fresh whether st->acc holds its NORMAL pass; otherwise st->p
+ * is restored and *moved 0. */
+static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *target, int *moved,
+                              int *fresh)
 {
     size_t m, e, h;
     double t = 1.0;
@@ -75,10 +81,11 @@ static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *tar
     *moved = 0;
     for (h = 0; h < BF_PROFILE_GN_HALVINGS; h++, t *= 0.5) {
         for (e = 0; e < st->n; e++) st->p[e] = from[e] + t * (target[e] - from[e]);
-        BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+        BF_RETURN_IF_ERROR(bf_stage_pass(st, h == 0 ? BF_PASS_NORMAL : BF_PASS_COST));
         if (st->acc[0] < *f) {
             *f = st->acc[0];
             *moved = 1;
+            *fresh = h == 0;
             return BRDFFIT_OK;
         }
     }
@@ -86,15 +93,51 @@ static brdffit_status gn_step(bf_stage *st, double *f, double *from, double *tar
     return BRDFFIT_OK;
 }
 
-static brdffit_status gn_steps(bf_stage *st, double *cost, double *work)
+/* The start of the steps: the squared-value colours in st->p, or the
+ * colours of `warm` (another shape point's, clamped into this point's
+ * bounds) when their cost is lower. On return st->p is the start, *f its
+ * cost, and *fresh whether st->acc holds its NORMAL pass. `work` has
+ * n + 1 + n + n * n doubles (the point and its NORMAL sums, saved). */
+static brdffit_status warm_start(bf_stage *st, const double *warm, double *work, double *f,
+                                 int *fresh)
+{
+    const bf_problem *pb = &st->pb;
+    size_t n = st->n, n_acc = 1 + n + n * n, q, m;
+    double f0;
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
+    *f = f0 = st->acc[0];
+    *fresh = 1;
+    if (warm == NULL) return BRDFFIT_OK;
+    memcpy(work, st->p, n * sizeof *work);
+    memcpy(work + n, st->acc, n_acc * sizeof *work);
+    for (q = 0; q < pb->ly.n_linear; q++)
+        for (m = 0; m < pb->nc; m++) {
+            size_t e = st->vindex[pb->ly.linear[q] * pb->nc + m];
+            if (!st->fixed[e]) st->p[e] = fmin(fmax(warm[e], st->lower[e]), st->upper[e]);
+        }
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_COST));
+    if (st->acc[0] < f0) {
+        *f = st->acc[0];
+        *fresh = 0;
+        return BRDFFIT_OK;
+    }
+    memcpy(st->p, work, n * sizeof *work);
+    memcpy(st->acc, work + n, n_acc * sizeof *work);
+    return BRDFFIT_OK;
+}
+
+static brdffit_status gn_steps(bf_stage *st, const double *warm, double *cost, double *work)
 {
     double f = 0.0, before;
-    int step, moved = 1;
+    int step, moved = 1, fresh = 0;
+    BF_RETURN_IF_ERROR(warm_start(st, warm, work + 2 * st->n, &f, &fresh));
     for (step = 0; step < BF_PROFILE_GN_STEPS && moved; step++) {
-        BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
-        f = st->acc[0];
+        if (!fresh) {
+            BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_NORMAL));
+            f = st->acc[0];
+        }
         before = f;
-        BF_RETURN_IF_ERROR(gn_step(st, &f, work, work + st->n, &moved));
+        BF_RETURN_IF_ERROR(gn_step(st, &f, work, work + st->n, &moved, &fresh));
         if (moved && before - f <= BF_PROFILE_GN_RTOL * before) break;
     }
     *cost = f; /* the cost at st->p: the last NORMAL pass's or the accepted step's */
@@ -102,6 +145,11 @@ static brdffit_status gn_steps(bf_stage *st, double *cost, double *work)
 }
 
 brdffit_status bf_profile_gn(bf_stage *st, double *cost)
+{
+    return bf_profile_gn_from(st, NULL, cost);
+}
+
+brdffit_status bf_profile_gn_from(bf_stage *st, const double *warm, double *cost)
 {
     const brdffit_allocator *a = &st->run->fit->alloc;
     double *work;
@@ -112,9 +160,9 @@ brdffit_status bf_profile_gn(bf_stage *st, double *cost)
         *cost = st->acc[0];
         return BRDFFIT_OK;
     }
-    work = bf_calloc(a, 2 * st->n, sizeof *work);
+    work = bf_calloc(a, 4 * st->n + 1 + st->n * st->n, sizeof *work);
     if (work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
-    status = gn_steps(st, cost, work);
+    status = gn_steps(st, warm, cost, work);
     bf_free(a, work);
     return status;
 }

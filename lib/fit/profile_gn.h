@@ -19,4 +19,10 @@
  * st->p. */
 brdffit_status bf_profile_gn(bf_stage *st, double *cost);
 
+/* As bf_profile_gn(), but the steps start from the colours of `warm` (a
+ * parameter vector of the stage, e.g. the previous scan point's result;
+ * clamped into st's bounds) when their objective cost is lower than the
+ * squared-value colours'; warm NULL is bf_profile_gn(). */
+brdffit_status bf_profile_gn_from(bf_stage *st, const double *warm, double *cost);
+
 #endif

@@ -82,8 +82,10 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u)
         st->p[sc->dims[d].entry] = bf_stage_natural(st, sc->dims[d].entry, u[d]);
 }
 
-brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
-                                  double *cost)
+/* bf_scan_profile_at() with the objective's colour steps started from
+ * `warm` when that is better (profile_gn.h); warm may be NULL. */
+static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u,
+                                    const double *warm, double *cost)
 {
     brdffit_status status;
     if (atomic_load(&st->run->fit->cancel)) {
@@ -94,7 +96,7 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
     bf_scan_set_point(st, sc, u);
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
     status = bf_varpro_profile(st, cost);
-    if (status == BRDFFIT_OK) status = bf_profile_gn(st, cost); /* the objective's cost */
+    if (status == BRDFFIT_OK) status = bf_profile_gn_from(st, warm, cost); /* the objective's */
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it
      * is not recorded in the trace, which holds the costs evaluated */
@@ -104,6 +106,12 @@ brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double 
     }
     BF_RETURN_IF_ERROR(status);
     return bf_trace_scan(&st->run->result->trace, &st->run->fit->alloc, *cost);
+}
+
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
+                                  double *cost)
+{
+    return profile_point(st, sc, u, NULL, cost);
 }
 
 /* Keep the best BF_MAX_CANDIDATES local minima, best first. */
@@ -148,13 +156,20 @@ static void flat_to_u(const bf_scan_dim *dims, size_t nd, size_t flat, double *u
     }
 }
 
-static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size_t total)
+/* The grid in its flat order; under a non-squares objective each point's
+ * colour steps may start from the previous point's colours (`warm`, n
+ * doubles), a neighbour along the first dimension. */
+static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size_t total,
+                                double *warm)
 {
     double u[BF_MAX_DIMS];
     size_t flat;
+    int have = 0;
     for (flat = 0; flat < total && !st->run->cancelled; flat++) {
         flat_to_u(sc->dims, sc->nd, flat, u);
-        BF_RETURN_IF_ERROR(bf_scan_profile_at(st, sc, u, &f[flat]));
+        BF_RETURN_IF_ERROR(profile_point(st, sc, u, have ? warm : NULL, &f[flat]));
+        have = f[flat] < HUGE_VAL;
+        if (have) memcpy(warm, st->p, st->n * sizeof *warm);
     }
     return BRDFFIT_OK;
 }
@@ -168,10 +183,10 @@ static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
     brdffit_status status;
     choose_counts(sc->dims, sc->nd);
     for (d = 0; d < sc->nd; d++) total *= sc->dims[d].count;
-    f = bf_calloc(a, total, sizeof *f);
+    f = bf_calloc(a, total + st->n, sizeof *f); /* the costs, then the warm start */
     if (f == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (flat = 0; flat < total; flat++) f[flat] = HUGE_VAL; /* points a cancel leaves out */
-    status = scan_grid(st, sc, f, total);
+    status = scan_grid(st, sc, f, total, f + total);
     sc->n_best = 0;
     for (flat = 0; status == BRDFFIT_OK && flat < total; flat++) {
         if (!(f[flat] < HUGE_VAL) || !is_local_min(f, sc->dims, sc->nd, flat)) continue;
