@@ -72,9 +72,11 @@ static void print_vector(const char *label, const double *x, size_t n)
 }
 
 /* Fit data made from `mat` (with multiplicative `noise`) by `pipeline`
- * (auto: no start values; joint: from the model's defaults); returns the worst error of the parameters and
- * the cost in *cost. */
-static double recover(const material *mat, double noise, int pipeline, double *cost)
+ * (auto: no start values; joint: from the model's defaults) under
+ * `objective` (BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT: the pipeline's own);
+ * returns the worst error of the parameters and the cost in *cost. */
+static double recover(const material *mat, double noise, int pipeline, int objective,
+                      double *cost)
 {
     brdffit_model *model = NULL;
     brdffit_fit *fit = NULL;
@@ -88,6 +90,7 @@ static double recover(const material *mat, double noise, int pipeline, double *c
     grid = fx_grid_from_model(model, truth, NC, NULL, noise, 7);
     assert_non_null(grid);
     assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, objective), BRDFFIT_OK);
     if (brdffit_fit_run(fit) != BRDFFIT_OK) fail_msg("%s: %s", mat->what, brdffit_fit_message(fit));
     assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, cost),
@@ -111,16 +114,25 @@ static size_t material_count(void)
     return getenv("BRDFFIT_TEST_QUICK") ? 2 : sizeof MATERIALS / sizeof MATERIALS[0];
 }
 
-/* The auto pipeline, no start values, exact data. */
+/* The auto pipeline, no start values, exact data: every material under
+ * the squares objective, the first also under auto's default (cube-root,
+ * whose profile takes Gauss-Newton colour steps at every scan point: about
+ * 20 s for one of these materials on a loaded machine, so the valgrind runs
+ * leave it out). */
 static void test_openpbr_auto_recovers_itself(void **state)
 {
     size_t i;
     double cost;
     (void)state;
     for (i = 0; i < material_count(); i++) {
-        assert_true(recover(&MATERIALS[i], 0.0, BRDFFIT_PIPELINE_AUTO, &cost) < RECOVERY_TOLERANCE);
+        assert_true(recover(&MATERIALS[i], 0.0, BRDFFIT_PIPELINE_AUTO, BRDFFIT_OBJECTIVE_SQUARES,
+                            &cost) < RECOVERY_TOLERANCE);
         assert_true(cost < 1e-20);
     }
+    if (getenv("BRDFFIT_TEST_QUICK")) return;
+    assert_true(recover(&MATERIALS[0], 0.0, BRDFFIT_PIPELINE_AUTO,
+                        BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT, &cost) < RECOVERY_TOLERANCE);
+    assert_true(cost < 1e-20);
 }
 
 /* With 1 % noise every parameter stays within NOISY_TOLERANCE. */
@@ -130,7 +142,8 @@ static void test_openpbr_auto_with_noise(void **state)
     double cost;
     (void)state;
     for (i = 0; i < material_count(); i++)
-        assert_true(recover(&MATERIALS[i], 0.01, BRDFFIT_PIPELINE_AUTO, &cost) < NOISY_TOLERANCE);
+        assert_true(recover(&MATERIALS[i], 0.01, BRDFFIT_PIPELINE_AUTO, BRDFFIT_OBJECTIVE_SQUARES,
+                            &cost) < NOISY_TOLERANCE);
 }
 
 int main(void)
