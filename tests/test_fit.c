@@ -48,10 +48,6 @@ static brdffit_fit *make_fit(const brdffit_grid *grid, const brdffit_model *mode
     brdffit_fit *fit = NULL;
     brdffit_error err;
     assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, &err), BRDFFIT_OK);
-    /* these tests check the thesis's cost (the squares of values), which
-     * auto does not minimise by default */
-    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_SQUARES),
-                     BRDFFIT_OK);
     return fit;
 }
 

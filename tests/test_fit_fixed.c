@@ -180,9 +180,6 @@ static void test_held_colour_off_truth(void **state)
         brdffit_fit *fit = NULL;
         assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
         assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, PIPELINES[p]), BRDFFIT_OK);
-        /* one cost for every pipeline, so their optima compare */
-        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_SQUARES),
-                         BRDFFIT_OK);
         assert_int_equal(brdffit_fit_set_start(fit, start), BRDFFIT_OK);
         assert_int_equal(brdffit_fit_set_fixed(fit, ks, 1), BRDFFIT_OK);
         assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);

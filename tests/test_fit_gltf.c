@@ -156,9 +156,6 @@ static void test_gltf_auto_with_noise(void **state)
         grid = fx_grid_from_model(model, truth, NC, NULL, 0.01, 7);
         assert_non_null(grid);
         assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
-        /* compared with LM from the truth under the squares (cost_from) */
-        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_SQUARES),
-                         BRDFFIT_OK);
         assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
         assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_OK);
         assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &cost),

@@ -358,7 +358,7 @@ static void test_auto_against_brute_force(void **state)
 
 static void test_bad_values(void **state)
 {
-    static const double bad[] = {-2.0, 4.0, 0.5, 1e9, -0.5};
+    static const double bad[] = {-1.0, 4.0, 0.5, 1e9};
     brdffit_model *model = make_model("lambert");
     double truth_p[3] = {0.3, 0.2, 0.1}, value, *vals;
     brdffit_grid *grid = fx_grid_from_model(model, truth_p, 3, NULL, 0.0, 1), *neg = NULL;
@@ -375,15 +375,6 @@ static void test_bad_values(void **state)
                      BRDFFIT_OK);
     assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_OBJECTIVE, &value), BRDFFIT_OK);
     assert_true(value == 3.0);
-    /* back to the pipeline's default: squares for joint, cube-root for auto */
-    assert_int_equal(
-        brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT),
-        BRDFFIT_OK);
-    assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_OBJECTIVE, &value), BRDFFIT_OK);
-    assert_true(value == (double)BRDFFIT_OBJECTIVE_SQUARES);
-    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_AUTO), BRDFFIT_OK);
-    assert_int_equal(brdffit_fit_get(fit, BRDFFIT_FIT_OBJECTIVE, &value), BRDFFIT_OK);
-    assert_true(value == (double)BRDFFIT_OBJECTIVE_CUBE_ROOT);
     brdffit_fit_destroy(fit);
     /* one value far below zero at normal light: 1 + cos(theta_i) R <= 0 */
     vals = malloc(3 * n * sizeof *vals);

@@ -82,7 +82,7 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_CLEARCOAT = 4,      /**< Clear-coat R0 in [0, 1); 0 (default) switches compensation off. */
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
     BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
-    BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective, or ::BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT (the default): cube-root for auto, squares for joint and two-stage. */
+    BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
     BRDFFIT_FIT_PLAUSIBLE = 8       /**< 0, 1 (default) or 2: how the auto pipeline bounds the colours by energy conservation (see below). */
 } brdffit_fit_setting;
 
@@ -157,15 +157,6 @@ typedef enum brdffit_fit_setting {
  * problem, so shapes are compared by their true objective cost; every
  * competing minimum is then polished by Levenberg-Marquardt under the
  * objective (docs/fitting.md).
- *
- * The default (::BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT) depends on the
- * pipeline: the auto pipeline minimises CUBE_ROOT, whose fits look most
- * like the measurement (the best rendered-sphere PSNR of the one-lobe
- * models, docs/fitting.md "Choosing the objective"); the joint and
- * two-stage pipelines, the thesis's methods, minimise SQUARES.
- * brdffit_fit_get() of ::BRDFFIT_FIT_OBJECTIVE always returns the
- * objective a run would use with the current settings, never the
- * placeholder.
  */
 typedef enum brdffit_objective {
     BRDFFIT_OBJECTIVE_SQUARES = 0,   /**< Weighted squares of values (the thesis's cost). */
@@ -173,10 +164,6 @@ typedef enum brdffit_objective {
     BRDFFIT_OBJECTIVE_CUBE_ROOT = 2, /**< Cube root of cosine-weighted values. */
     BRDFFIT_OBJECTIVE_RELATIVE = 3   /**< Differences relative to the measured value. */
 } brdffit_objective;
-
-/** @brief Value of ::BRDFFIT_FIT_OBJECTIVE for brdffit_fit_set() meaning "the
- *         pipeline's default objective" (the default; see ::brdffit_objective). */
-#define BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT (-1)
 
 /** @brief Error figures reported by brdffit_fit_error(). Values are fixed forever. */
 typedef enum brdffit_fit_metric {

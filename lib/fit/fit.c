@@ -53,7 +53,7 @@ static void fit_defaults(brdffit_fit *fit)
     fit->clearcoat = 0.0;
     fit->threads = 1;
     fit->max_iterations = 200;
-    fit->objective = BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT;
+    fit->objective = BRDFFIT_OBJECTIVE_SQUARES;
     fit->plausible = 1;
     fit->damping = *brdffit_damping_nielsen();
     brdffit_model_default_params(fit->model, fit->nc, fit->start);
@@ -163,8 +163,8 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
         fit->max_iterations = (size_t)value;
         return BRDFFIT_OK;
     case BRDFFIT_FIT_OBJECTIVE:
-        if (!is_whole(value, BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT, BRDFFIT_OBJECTIVE_RELATIVE)) break;
-        fit->objective = (int)value;
+        if (!is_whole(value, 0, BRDFFIT_OBJECTIVE_RELATIVE)) break;
+        fit->objective = (brdffit_objective)(int)value;
         return BRDFFIT_OK;
     case BRDFFIT_FIT_PLAUSIBLE:
         if (!is_whole(value, 0, 2)) break;
@@ -175,13 +175,6 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
     }
     return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
                   "value %g out of range for fit setting %d", value, (int)setting);
-}
-
-brdffit_objective bf_fit_objective(const brdffit_fit *fit)
-{
-    if (fit->objective != BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT) return (brdffit_objective)fit->objective;
-    return fit->pipeline == BRDFFIT_PIPELINE_AUTO ? BRDFFIT_OBJECTIVE_CUBE_ROOT
-                                                  : BRDFFIT_OBJECTIVE_SQUARES;
 }
 
 brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setting,
@@ -196,7 +189,7 @@ brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setti
     case BRDFFIT_FIT_CLEARCOAT: *value = fit->clearcoat; return BRDFFIT_OK;
     case BRDFFIT_FIT_THREADS: *value = (double)fit->threads; return BRDFFIT_OK;
     case BRDFFIT_FIT_MAX_ITERATIONS: *value = (double)fit->max_iterations; return BRDFFIT_OK;
-    case BRDFFIT_FIT_OBJECTIVE: *value = (double)bf_fit_objective(fit); return BRDFFIT_OK;
+    case BRDFFIT_FIT_OBJECTIVE: *value = (double)fit->objective; return BRDFFIT_OK;
     case BRDFFIT_FIT_PLAUSIBLE: *value = (double)fit->plausible; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;

@@ -26,8 +26,7 @@ struct brdffit_fit {
     double clearcoat;
     size_t threads;
     size_t max_iterations;
-    int objective;              /* a brdffit_objective, or BRDFFIT_OBJECTIVE_PIPELINE_DEFAULT:
-                                 * read it through bf_fit_objective() */
+    brdffit_objective objective;
     int plausible;              /* BRDFFIT_FIT_PLAUSIBLE */
     brdffit_damping damping;
     double *start;              /* n_vec: start values (model defaults unless set) */
@@ -41,9 +40,5 @@ struct brdffit_fit {
     int has_result;
     bf_result result;
 };
-
-/* The objective a run of the fit minimises: the one set, or the
- * pipeline's default (cube-root for auto, squares for joint and two-stage). */
-brdffit_objective bf_fit_objective(const brdffit_fit *fit);
 
 #endif

@@ -83,7 +83,7 @@ static brdffit_status check_rows(bf_run *run)
 /* The plan whose weights the objective uses (as stage.c sets it). */
 static const bf_weight_plan *objective_plan(const bf_run *run)
 {
-    brdffit_objective o = bf_fit_objective(run->fit);
+    brdffit_objective o = run->fit->objective;
     return o == BRDFFIT_OBJECTIVE_LOG || o == BRDFFIT_OBJECTIVE_CUBE_ROOT ? &run->plan_sa
                                                                           : &run->plan;
 }
@@ -106,7 +106,7 @@ static int chunk_values(const bf_run *run, size_t ci, double *sum, double *count
             if (fit->clearcoat > 0.0) r /= bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]);
             *sum += fabs(meas[s]);
             *count += 1.0;
-            if (bf_fit_objective(fit) == BRDFFIT_OBJECTIVE_LOG && !(1.0 + cz * r > 0.0)) {
+            if (fit->objective == BRDFFIT_OBJECTIVE_LOG && !(1.0 + cz * r > 0.0)) {
                 *bad = r;
                 return -1;
             }
@@ -121,7 +121,7 @@ static brdffit_status prepare_objective(bf_run *run)
 {
     double sum = 0.0, count = 0.0, bad = 0.0;
     size_t ci;
-    if (bf_fit_objective(run->fit) == BRDFFIT_OBJECTIVE_SQUARES) return BRDFFIT_OK;
+    if (run->fit->objective == BRDFFIT_OBJECTIVE_SQUARES) return BRDFFIT_OK;
     for (ci = 0; ci < objective_plan(run)->n_chunks; ci++)
         if (chunk_values(run, ci, &sum, &count, &bad) != 0)
             return bf_say(run->result->message, BRDFFIT_E_RANGE,

@@ -43,11 +43,11 @@ static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t sourc
     st->pb.source = source;
     st->pb.source_channel = source_channel;
     st->pb.clearcoat = fit->clearcoat;
-    st->pb.objective = bf_fit_objective(fit);
+    st->pb.objective = fit->objective;
     st->pb.delta = st->run->delta;
     /* the log and cube-root objectives carry cos(theta_i) inside: their
      * weight is the solid angle alone */
-    if (st->pb.objective == BRDFFIT_OBJECTIVE_LOG || st->pb.objective == BRDFFIT_OBJECTIVE_CUBE_ROOT)
+    if (fit->objective == BRDFFIT_OBJECTIVE_LOG || fit->objective == BRDFFIT_OBJECTIVE_CUBE_ROOT)
         st->pb.plan = &st->run->plan_sa;
     bf_layout_init(&st->pb.ly, fit->model, nc);
     st->pb.threads = fit->threads;

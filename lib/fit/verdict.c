@@ -236,7 +236,7 @@ static unsigned mean(verdict *v)
         fitted += r->metrics[4 * c + 1];
         plain += r->metrics[4 * c];
     }
-    if (bf_fit_objective(v->fit) == BRDFFIT_OBJECTIVE_SQUARES) {
+    if (v->fit->objective == BRDFFIT_OBJECTIVE_SQUARES) {
         /* the cost the fit minimised */
         double cost = 0.0;
         for (c = 0; c < v->fit->nc; c++) cost += r->metrics[4 * c + 3];

@@ -128,10 +128,7 @@ class Recovery(unittest.TestCase):
                 costs[objective] = off.error("cost")
         self.assertEqual(len(set(costs.values())), len(costs))
         fit = Fit(self.grid, self.builtin)
-        self.assertEqual(fit.objective, "cube-root")  # the auto pipeline's default
-        fit.pipeline = "joint"
-        self.assertEqual(fit.objective, "squares")  # the thesis's methods keep squares
-        fit.pipeline = "auto"
+        self.assertEqual(fit.objective, "squares")
         fit.objective = 1
         self.assertEqual(fit.objective, "log")
         with self.assertRaises(ValueError):

@@ -19,9 +19,8 @@ static const char fit_help[] =
     "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
     "  --pipeline P          auto (default: global search, no start values), joint\n"
     "                        or two-stage (the thesis's method, from start values)\n"
-    "  --objective O         squares (the thesis's weighted squares), log, cube-root\n"
-    "                        or relative (docs/fitting.md); default cube-root for\n"
-    "                        the auto pipeline, squares for joint and two-stage\n"
+    "  --objective O         squares (default: the thesis's weighted squares), log,\n"
+    "                        cube-root or relative (docs/fitting.md)\n"
     "  --start LIST          start values, NAME=VALUE (all channels) or\n"
     "                        NAME=V1:V2:V3 (one per channel), comma-separated\n"
     "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
@@ -72,7 +71,6 @@ typedef struct fit_opts {
     unsigned weighting, mtlx_shaders;
     size_t threads, max_iterations, plausible;
     int json, strict;
-    int objective_given; /* else the pipeline's default objective */
 } fit_opts;
 
 /* Shared by the workers; the mutex guards next, done and n_done. */
@@ -103,10 +101,9 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
     const fit_opts *o = run->opts;
     char msg[CLI_MSG_SIZE];
     brdffit_status st = BRDFFIT_OK;
-    double objective, threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
+    double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
     if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
-        (o->objective_given &&
-         (st = brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) != BRDFFIT_OK) ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, (double)o->plausible)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
@@ -116,8 +113,6 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
         (o->max_iterations > 0 && (st = brdffit_fit_set(fit, BRDFFIT_FIT_MAX_ITERATIONS,
                                                         (double)o->max_iterations)) != BRDFFIT_OK))
         return fail(r, st, brdffit_fit_message(fit));
-    if (brdffit_fit_get(fit, BRDFFIT_FIT_OBJECTIVE, &objective) == BRDFFIT_OK)
-        r->objective = (brdffit_objective)(int)objective; /* the one the run uses */
     if (fit_holds_apply(run->holds, run->start, fit, run->model, r->n_channels, msg, sizeof msg))
         return fail(r, BRDFFIT_E_INVALID_ARGUMENT, msg);
     return 0;
@@ -510,7 +505,6 @@ static int option_value(fit_opts *o, const char *name, const char *value)
     } else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
-        o->objective_given = 1;
     } else if (strcmp(name, "pipeline") == 0) {
         if (!parse_pipeline(value, &o->pipeline))
             return cli_usage_error("fit", "--pipeline is auto, joint or two-stage");

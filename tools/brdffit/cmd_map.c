@@ -20,8 +20,7 @@ static const char map_help[] =
     "                        default: standard output\n"
     "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
     "  --pipeline P          auto (default), joint or two-stage\n"
-    "  --objective O         squares, log, cube-root or relative; default cube-root\n"
-    "                        for the auto pipeline, squares for joint and two-stage\n"
+    "  --objective O         squares (default), log, cube-root or relative\n"
     "  --start LIST          start values, NAME=VALUE or NAME=V1:V2:V3, comma-separated\n"
     "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
     "  --no-solid-angle      do not weight residuals by the solid angle of the cell\n"
@@ -42,7 +41,6 @@ typedef struct map_opts {
     double cap, clearcoat;
     unsigned weighting;
     size_t threads, max_iterations;
-    int objective_given; /* else the pipeline's default objective */
 } map_opts;
 
 typedef struct map_result {
@@ -63,7 +61,6 @@ static int option_value(map_opts *o, const char *name, const char *value)
     else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("map", "--objective is squares, log, cube-root or relative");
-        o->objective_given = 1;
     } else if (strcmp(name, "pipeline") == 0) {
         if (strcmp(value, "auto") == 0) o->pipeline = BRDFFIT_PIPELINE_AUTO;
         else if (strcmp(value, "joint") == 0) o->pipeline = BRDFFIT_PIPELINE_JOINT;
@@ -134,7 +131,7 @@ static int configure(brdffit_fit *fit, const map_opts *o, const brdffit_model *m
     double *vec = NULL;
     int rc = 0;
     if (brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline) ||
-        (o->objective_given && brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) ||
+        brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective) ||
         brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap) ||
         brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting) ||
         brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, o->clearcoat) ||
@@ -315,7 +312,7 @@ static int fit_map(const char *path, const map_opts *o, map_data *m, brdffit_mod
 int cli_cmd_map(int argc, char **argv)
 {
     map_opts o = {"ashikhmin-shirley", NULL, NULL, BRDFFIT_PIPELINE_AUTO,
-                  BRDFFIT_OBJECTIVE_SQUARES, BRDFFIT_DEFAULT_CAP, 0.0, BRDFFIT_WEIGHT_DEFAULT, 1, 0, 0};
+                  BRDFFIT_OBJECTIVE_SQUARES, BRDFFIT_DEFAULT_CAP, 0.0, BRDFFIT_WEIGHT_DEFAULT, 1, 0};
     char msg[CLI_MSG_SIZE];
     brdffit_model *model = NULL;
     brdffit_error err;

@@ -74,10 +74,8 @@ class Fit(Handle):
     - ``clearcoat``: clear-coat R0 in [0, 1), 0 = off;
     - ``threads``: threads per pass over the samples, 1 .. 64;
     - ``max_iterations``: iteration limit of each LM run;
-    - ``objective``: what the fit minimises, ``"squares"``, ``"log"``,
-      ``"cube-root"`` or ``"relative"`` (docs/fitting.md); by default the
-      pipeline's own: ``"cube-root"`` for auto, ``"squares"`` for joint and
-      two-stage (the property reads the one a run would use);
+    - ``objective``: what the fit minimises, ``"squares"`` (default),
+      ``"log"``, ``"cube-root"`` or ``"relative"`` (docs/fitting.md);
     - ``plausible``: 0, 1 (default: the diffuse colour <= 1 and each
       built-in specular lobe's directional albedo <= 1, from a table) or 2
       (every term's directional albedo <= 1 by the integral: slower); True
