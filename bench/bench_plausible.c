@@ -15,9 +15,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <brdffit/brdffit.h>
+
+#include "harness.h"
 
 #ifndef BENCH_SOURCE_DIR
 #define BENCH_SOURCE_DIR "."
@@ -27,29 +28,17 @@
 #define MAXV 64
 #define NC 3
 
-static double now(void)
-{
-    struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* One auto fit at plausibility `level`: its time (ms), NAN on failure. */
 static double fit_ms(const brdffit_grid *grid, const brdffit_model *model, int level, double *p)
 {
     brdffit_fit *fit = NULL;
-    double t0, ms = NAN;
+    uint64_t t0;
+    double ms = NAN;
     if (brdffit_fit_create(&fit, grid, model, NULL, NULL) != BRDFFIT_OK) return NAN;
     brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, level);
-    t0 = now();
+    t0 = bh_now_ns();
     if (brdffit_fit_run(fit) == BRDFFIT_OK && brdffit_fit_params(fit, p) == BRDFFIT_OK)
-        ms = 1e3 * (now() - t0);
+        ms = 1e-6 * (double)(bh_now_ns() - t0);
     brdffit_fit_destroy(fit);
     return ms;
 }
@@ -90,8 +79,9 @@ static void one_model(const brdffit_grid *grid, const char *name, size_t repeats
     for (r = 0; r < repeats; r++)
         for (level = 0; level < 3; level++) t[level][r] = fit_ms(grid, model, level, p);
     for (level = 0; level < 3; level++) {
-        qsort(t[level], repeats, sizeof t[level][0], cmp);
-        med[level] = t[level][repeats / 2];
+        bh_stats st;
+        bh_stats_from(t[level], repeats, &st);
+        med[level] = st.median_ns; /* the times are in ms */
     }
     fit_ms(grid, model, 1, p);
     top = worst_term(model, p, &which);
