@@ -141,6 +141,7 @@ static brdffit_status configure(brdffit_fit *fit, const bd_fit_job *job)
     BH_TRY(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)job->pipeline));
     BH_TRY(brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, (double)(job->threads ? job->threads : 1)));
     if (job->start != NULL) BH_TRY(brdffit_fit_set_start(fit, job->start));
+    if (job->damping != NULL) BH_TRY(brdffit_fit_set_damping(fit, job->damping));
     return BRDFFIT_OK;
 }
 

@@ -65,6 +65,7 @@ typedef struct bd_fit_job {
     const double *start;
     size_t threads;      /* BRDFFIT_FIT_THREADS */
     bh_counter *counter; /* NULL: the default allocator */
+    const brdffit_damping *damping; /* NULL: the default policy */
 } bd_fit_job;
 
 typedef struct bd_fit_result {
