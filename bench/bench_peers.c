@@ -369,7 +369,7 @@ static int run_minpack(void *arg)
 typedef struct peer {
     const char *name;
     bh_run_fn run; /* NULL: not built */
-    int own;       /* 1: the library under another damping policy, not a peer */
+    int own;       /* 1: libbrdffit itself, under one of its damping policies */
 } peer;
 
 /* The default policy (Nielsen) first: every ratio is against it. The other
@@ -562,7 +562,9 @@ int main(int argc, char **argv)
     worst wo;
     size_t p;
     int code;
-    if (!bh_parse_args(argc, argv, "The joint fit under each damping policy, against GSL and MINPACK.", &opt, &code))
+    if (!bh_parse_args(argc, argv,
+                       "The joint fit under each damping policy, against GSL and MINPACK.", &opt,
+                       &code))
         return code;
     if (!bh_output_open(&out, &opt, "joint fit of ashikhmin-shirley vs GSL and MINPACK (cap 75)"))
         return 1;

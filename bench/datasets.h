@@ -63,8 +63,8 @@ typedef struct bd_fit_job {
     const brdffit_model *model;
     brdffit_pipeline pipeline;
     const double *start;
-    size_t threads;      /* BRDFFIT_FIT_THREADS */
-    bh_counter *counter; /* NULL: the default allocator */
+    size_t threads;                 /* BRDFFIT_FIT_THREADS */
+    bh_counter *counter;            /* NULL: the default allocator */
     const brdffit_damping *damping; /* NULL: the default policy */
 } bd_fit_job;
 
