@@ -3,7 +3,8 @@
  * the same bits, and they agree with the unfused basis route (scratch
  * arrays and dot products, a different summation order) to rounding, for
  * every kind of pass it serves, every model of the lobe form (Lambert,
- * the one-lobe models, the two-lobe Ashikhmin-Shirley), values read in place
+ * the one-lobe models, the two-lobe Ashikhmin-Shirley) and of the
+ * microfacet form (GGX, Cook-Torrance, one lobe and two), values read in place
  * and loaded (channel mean, clear coat), on grids whose chunks end in a
  * partial group of lanes. */
 #include <math.h>
@@ -24,7 +25,7 @@ typedef struct setup {
     brdffit_model *model;
     bf_weight_plan plan;
     bf_problem pb;
-    size_t vindex[16];
+    size_t vindex[32]; /* n_params x nc */
     double params[16];
     double *work;
     int lobe; /* pb.lobe as bf_pass_prepare() set it */
@@ -46,7 +47,7 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
                        double cap_deg)
 {
     bf_problem *pb = &s->pb;
-    size_t k;
+    size_t k, size;
     memset(s, 0, sizeof *s);
     s->grid = make_grid(3);
     assert_int_equal(brdffit_model_create(&s->model, model, NULL, NULL), BRDFFIT_OK);
@@ -62,7 +63,7 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     pb->clearcoat = coat;
     pb->threads = 1;
     bf_layout_init(&pb->ly, s->model, nc);
-    assert_true(pb->ly.n_vec <= 16);
+    assert_true(pb->ly.n_vec <= 16 && brdffit_model_param_count(s->model) * nc <= 32);
     bf_layout_entries(&pb->ly, s->model, s->vindex, NULL);
     pb->vindex = s->vindex;
     bf_pass_prepare(pb);
@@ -72,10 +73,21 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     for (k = 1; k < pb->ly.n_vec; k++) s->params[k] = 0.05 + 0.1 * (double)k;
     /* the second lobe of the two-lobe model sharper than the first */
     if (strcmp(model, "ashikhmin-shirley-2") == 0) s->params[s->vindex[nc]] = 300.0;
-    /* room for the unfused route too (its scratch is larger) */
+    /* the microfacet form: roughness 0.3 (and 0.08 for a second lobe),
+     * F0 0.2 */
+    if (pb->mf != BF_MF_NONE) {
+        const size_t nl = (size_t)pb->lobe - 1;
+        s->params[s->vindex[0]] = 0.3;
+        if (nl == 2) s->params[s->vindex[nc]] = 0.08;
+        s->params[s->vindex[nl * nc]] = 0.2;
+    }
+    /* room for either route (the unfused one has the larger scratch, the
+     * fused one of two microfacet lobes the larger accumulator) */
     s->lobe = pb->lobe;
+    size = bf_pass_work_size(pb);
     pb->lobe = 0;
-    s->work = calloc(bf_pass_work_size(pb), sizeof(double));
+    if (bf_pass_work_size(pb) > size) size = bf_pass_work_size(pb);
+    s->work = calloc(size, sizeof(double));
     assert_non_null(s->work);
     pb->work = s->work;
     pb->lobe = s->lobe;
@@ -197,6 +209,35 @@ static void test_lambert_and_two_lobes(void **state)
     check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.04, 75.0);
 }
 
+/* The microfacet form: GGX and Cook-Torrance, one lobe and two, on 3
+ * channels read in place and on 1 loaded (the channel mean), at both caps
+ * (the 75 degree cap leaves chunks ending in a partial group). */
+static void test_microfacet(void **state)
+{
+    static const char *const models[] = {"ggx", "ggx-2", "cook-torrance", "cook-torrance-2"};
+    setup s;
+    size_t m;
+    (void)state;
+    /* GGX: NE = 1 + 3 nl functions (1/pi, B, dB/da, dB/dF0) */
+    setup_init(&s, "ggx", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 2);
+    assert_int_equal(s.pb.mf, BF_MF_GGX);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 10 + 3 * 4) * 8);
+    setup_free(&s);
+    setup_init(&s, "cook-torrance-2", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 3);
+    assert_int_equal(s.pb.mf, BF_MF_CT);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 28 + 3 * 7) * 8);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_VARPRO), (6 + 3 * 4) * 8);
+    setup_free(&s);
+    for (m = 0; m < sizeof models / sizeof models[0]; m++) {
+        check_case(models[m], 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+        check_case(models[m], 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+        check_case(models[m], 1, BF_SOURCE_MEAN, 0.0, 75.0);
+    }
+    check_case("ggx", 3, BF_SOURCE_CHANNELS, 0.04, 90.0);
+}
+
 /* Values loaded by the driver instead of read in place. */
 static void test_loaded_values(void **state)
 {
@@ -246,6 +287,7 @@ int main(void)
         cmocka_unit_test(test_ashikhmin_shirley),
         cmocka_unit_test(test_phong_and_blinn),
         cmocka_unit_test(test_lambert_and_two_lobes),
+        cmocka_unit_test(test_microfacet),
         cmocka_unit_test(test_loaded_values),
         cmocka_unit_test(test_what_it_serves),
     };

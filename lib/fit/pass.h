@@ -80,7 +80,9 @@ typedef struct bf_problem {
     unsigned isa;                  /* the fused loop's version (BF_ISA_*): the best the
                                     * machine runs; a test may lower it */
     int lobe;                      /* 1 + its lobes when the kernel has the lobe form
-                                    * (models/basis.h), else 0 */
+                                    * or the microfacet form (models/basis.h), else 0 */
+    int mf;                        /* the microfacet form's family (bf_microfacet),
+                                    * BF_MF_NONE for the lobe form */
 } bf_problem;
 
 /* Choose the route of every pass of the problem from the routes' table;

@@ -6,14 +6,24 @@
  *
  * with x and g read from the grid's geometry (precomputed once per grid:
  * ln n.h or ln r.v, and 1 / (8 pi h.v max(n.l, n.v)) for
- * Ashikhmin-Shirley), the weights of the chunk as the driver computed
- * them and the measured values in place. Per sample it evaluates the
- * basis once and adds every sum of the pass (NORMAL on 3 channels: the
- * cost, the 6 entries of the Gram matrix G of the weighted basis
- * u = w (1/pi, k P, (dk + k x) P) and the 9 of H = u d_c) into local
- * accumulators. The values of B and d are the same expressions as the
- * kernel's and the basis route's (kernel_ashikhmin.c,
- * kernel_lambert_phong.c, pass_basis.c), so only the order of the sums
+ * Ashikhmin-Shirley), and for the models of its microfacet form (GGX and
+ * Cook-Torrance, one lobe or two sharing F0),
+ *
+ *     value_c = cd_c / pi + sum_q cs_qc B_q,  B_q = D_q G_q F / (4 n.l n.v),
+ *
+ * with the extended basis (1/pi, B_q, dB_q/dr_q, dB_q/dF0) computed in
+ * the lanes from the grid's dot products: the per-sample geometry (tan^2,
+ * 1 / (4 n.l n.v), (1 - h.v)^5, the V-cavity G) once per group of lanes
+ * and shared by the lobes, the parameter-only factors (a^2, 2 / a, 4 a,
+ * -2 a; 1 / m^2, 2 / m) once per chunk. Both take the weights of the chunk
+ * as the driver computed them and the measured values in place. Per
+ * sample the loop evaluates the basis once and adds every sum of the pass
+ * (NORMAL on 3 channels and one lobe of the lobe form: the cost, the 6
+ * entries of the Gram matrix G of the weighted basis u = w (1/pi, k P,
+ * (dk + k x) P) and the 9 of H = u d_c) into local accumulators. The
+ * values of B and d are the same expressions as the kernel's and the
+ * basis route's (kernel_ashikhmin.c, kernel_lambert_phong.c,
+ * kernel_microfacet.c, pass_basis.c), so only the order of the sums
  * differs from that route.
  *
  * Summation order, fixed whatever the instruction set: every sum has
@@ -39,45 +49,55 @@
 #include "models/basis.h"
 
 /* width 8 or 4: the vector sweeps; 0: the plain C one */
-static inline void sweep_impl(const lobe_in *in, size_t n, size_t nc, size_t nl,
+static inline void sweep_impl(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                               bf_pass_kind kind, double *acc, int width)
 {
 #if BF_LANES_VECTOR
     if (width == 8) {
-        sweep_w8(in, n, nc, nl, kind, acc);
+        sweep_w8(in, n, nc, nl, mf, kind, acc);
         return;
     }
     if (width == 4) {
-        sweep_w4(in, n, nc, nl, kind, acc);
+        sweep_w4(in, n, nc, nl, mf, kind, acc);
         return;
     }
 #endif
     (void)width;
-    sweep_plain(in, n, nc, nl, kind, acc);
+    sweep_plain(in, n, nc, nl, mf, kind, acc);
 }
 
 /* kind made a constant for the compiler */
-static inline void sweep_kind(const lobe_in *in, size_t n, size_t nc, size_t nl,
+static inline void sweep_kind(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                               bf_pass_kind kind, double *acc, int width)
 {
-    if (kind == BF_PASS_NORMAL) sweep_impl(in, n, nc, nl, BF_PASS_NORMAL, acc, width);
-    else if (kind == BF_PASS_COST) sweep_impl(in, n, nc, nl, BF_PASS_COST, acc, width);
-    else sweep_impl(in, n, nc, nl, BF_PASS_VARPRO, acc, width);
+    if (kind == BF_PASS_NORMAL) sweep_impl(in, n, nc, nl, mf, BF_PASS_NORMAL, acc, width);
+    else if (kind == BF_PASS_COST) sweep_impl(in, n, nc, nl, mf, BF_PASS_COST, acc, width);
+    else sweep_impl(in, n, nc, nl, mf, BF_PASS_VARPRO, acc, width);
 }
 
-/* nc and nl too */
-static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, size_t nl,
+/* the lobes and the form too */
+static inline void sweep_lobes(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
+                               bf_pass_kind kind, double *acc, int width)
+{
+    if (mf == BF_MF_GGX) {
+        if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_GGX, kind, acc, width);
+        else sweep_kind(in, n, nc, 2, BF_MF_GGX, kind, acc, width);
+    } else if (mf == BF_MF_CT) {
+        if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_CT, kind, acc, width);
+        else sweep_kind(in, n, nc, 2, BF_MF_CT, kind, acc, width);
+    } else {
+        if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_NONE, kind, acc, width);
+        else if (nl == 2) sweep_kind(in, n, nc, 2, BF_MF_NONE, kind, acc, width);
+        else sweep_kind(in, n, nc, 0, BF_MF_NONE, kind, acc, width);
+    }
+}
+
+/* nc too */
+static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                              bf_pass_kind kind, double *acc, int width)
 {
-    if (nc == 3) {
-        if (nl == 1) sweep_kind(in, n, 3, 1, kind, acc, width);
-        else if (nl == 2) sweep_kind(in, n, 3, 2, kind, acc, width);
-        else sweep_kind(in, n, 3, 0, kind, acc, width);
-    } else {
-        if (nl == 1) sweep_kind(in, n, 1, 1, kind, acc, width);
-        else if (nl == 2) sweep_kind(in, n, 1, 2, kind, acc, width);
-        else sweep_kind(in, n, 1, 0, kind, acc, width);
-    }
+    if (nc == 3) sweep_lobes(in, n, 3, nl, mf, kind, acc, width);
+    else sweep_lobes(in, n, 1, nl, mf, kind, acc, width);
 }
 
 #if defined(__GNUC__) || defined(__clang__)
@@ -89,30 +109,30 @@ static inline void sweep_any(const lobe_in *in, size_t n, size_t nc, size_t nl,
 /* The versions, chosen per problem (bf_problem.isa). */
 #if BF_FUSED_HAVE_ISA
 __attribute__((target("avx512f"))) BF_FLATTEN static void
-sweep_avx512(const lobe_in *in, size_t n, size_t nc, size_t nl, bf_pass_kind kind,
-             double *acc)
+sweep_avx512(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
+             bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, nl, kind, acc, 8);
+    sweep_any(in, n, nc, nl, mf, kind, acc, 8);
 }
 
 __attribute__((target("avx2"))) BF_FLATTEN static void
-sweep_avx2(const lobe_in *in, size_t n, size_t nc, size_t nl, bf_pass_kind kind,
-             double *acc)
+sweep_avx2(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
+             bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, nl, kind, acc, 4);
+    sweep_any(in, n, nc, nl, mf, kind, acc, 4);
 }
 #endif
 
-BF_FLATTEN static void sweep_base(const lobe_in *in, size_t n, size_t nc, size_t nl,
+BF_FLATTEN static void sweep_base(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                                   bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, nl, kind, acc, 4);
+    sweep_any(in, n, nc, nl, mf, kind, acc, 4);
 }
 
 BF_FLATTEN static void sweep_plain_c(const lobe_in *in, size_t n, size_t nc, size_t nl,
-                                     bf_pass_kind kind, double *acc)
+                                     int mf, bf_pass_kind kind, double *acc)
 {
-    sweep_any(in, n, nc, nl, kind, acc, 0);
+    sweep_any(in, n, nc, nl, mf, kind, acc, 0);
 }
 
 unsigned bf_fused_best_isa(void)
@@ -130,14 +150,23 @@ void bf_fused_prepare(bf_problem *pb)
     bf_lobe lobe;
     pb->isa = bf_fused_best_isa();
     pb->lobe = 0;
-    if (pb->kernel != NULL && bf_kernel_lobe(pb->kernel, 1.0, &lobe)) {
+    pb->mf = BF_MF_NONE;
+    if (pb->kernel == NULL) return;
+    if (bf_kernel_lobe(pb->kernel, 1.0, &lobe)) {
         bf_basis_form f;
         bf_kernel_form(pb->kernel, &f);
         pb->lobe = 1 + (int)f.n_shape;
+    } else if (bf_kernel_microfacet(pb->kernel) != BF_MF_NONE) {
+        /* shape parameters: a roughness per lobe, then F0 */
+        bf_basis_form f;
+        bf_kernel_form(pb->kernel, &f);
+        pb->mf = (int)bf_kernel_microfacet(pb->kernel);
+        pb->lobe = (int)f.n_shape;
     }
 }
 
-/* Lobes of the problem's kernel (the lobe form: one per shape parameter);
+/* Lobes of the problem's kernel (the lobe form: one per shape parameter;
+ * the microfacet form: one per roughness);
  * read per chunk, so from pb rather than from the kernel. */
 static size_t lobes_of(const bf_problem *pb)
 {
@@ -147,7 +176,7 @@ static size_t lobes_of(const bf_problem *pb)
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
 {
     return pb->lobe > 0 && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3) &&
-           lobes_of(pb) <= MAX_LOBES;
+           lobes_of(pb) <= MAX_LOBES && (pb->mf == BF_MF_NONE || lobes_of(pb) >= 1);
 }
 
 int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
@@ -157,7 +186,7 @@ int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
 
 size_t bf_fused_acc_size(const bf_problem *pb, bf_pass_kind kind)
 {
-    return sums_of(kind, pb->nc, lobes_of(pb)) * LANES;
+    return sums_of(kind, pb->nc, lobes_of(pb), pb->mf) * LANES;
 }
 
 /* The chunk's inputs: lobe constants, colours, geometry and values. */
@@ -169,6 +198,30 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     const int in_place = bf_fused_in_place(pb, kind);
     bf_lobe lobe = {BF_LOBE_X_LOG_NH, BF_LOBE_G_ONE, 0.0, 0.0};
     size_t c, i, q;
+    if (pb->mf != BF_MF_NONE) {
+        /* shape (r_1 .. r_nl, F0), then (cd, cs_1 .. cs_nl) */
+        const size_t K = nl + 1;
+        for (q = 0; q < nl; q++) {
+            const double r = params[pb->vindex[q * nc]];
+            in->r2[q] = pb->mf == BF_MF_GGX ? r * r : 1.0 / (r * r);
+            in->two_r[q] = 2.0 / r;
+            in->four_r[q] = 4.0 * r;
+            in->m2_r[q] = -2.0 * r;
+        }
+        in->f0 = params[pb->vindex[nl * nc]];
+        in->w = sc->w;
+        in->x = in->g = NULL;
+        in->dot[0] = geo->nh + first;
+        in->dot[1] = geo->nl + first;
+        in->dot[2] = geo->nv + first;
+        in->dot[3] = geo->hv + first;
+        for (c = 0; c < nc; c++) {
+            in->cd[c] = params[pb->vindex[K * nc + c]];
+            for (q = 0; q < nl; q++) in->cs[q][c] = params[pb->vindex[(K + 1 + q) * nc + c]];
+            in->m[c] = in_place ? bf_grid_values(pb->grid, c) + first : sc->meas + c * n;
+        }
+        return;
+    }
     for (q = 0; q < nl; q++) {
         const double ns = params[pb->vindex[q * nc]];
         bf_kernel_lobe(pb->kernel, ns, &lobe);
@@ -178,6 +231,7 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     }
     in->w = sc->w;
     in->x = in->g = NULL;
+    for (i = 0; i < 4; i++) in->dot[i] = NULL;
     if (nl > 0) {
         in->x = (lobe.x == BF_LOBE_X_LOG_NH ? geo->log_nh : geo->log_rv) + first;
         if (lobe.g == BF_LOBE_G_AS) {
@@ -205,16 +259,16 @@ void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *param
     fill_in(pb, kind, params, sc, n, nl, &in, g_local);
 #if BF_FUSED_HAVE_ISA
     if (pb->isa == BF_ISA_AVX512) {
-        sweep_avx512(&in, n, pb->nc, nl, kind, sc->acc);
+        sweep_avx512(&in, n, pb->nc, nl, pb->mf, kind, sc->acc);
         return;
     }
     if (pb->isa == BF_ISA_AVX2) {
-        sweep_avx2(&in, n, pb->nc, nl, kind, sc->acc);
+        sweep_avx2(&in, n, pb->nc, nl, pb->mf, kind, sc->acc);
         return;
     }
 #endif
-    if (pb->isa == BF_ISA_PLAIN) sweep_plain_c(&in, n, pb->nc, nl, kind, sc->acc);
-    else sweep_base(&in, n, pb->nc, nl, kind, sc->acc);
+    if (pb->isa == BF_ISA_PLAIN) sweep_plain_c(&in, n, pb->nc, nl, pb->mf, kind, sc->acc);
+    else sweep_base(&in, n, pb->nc, nl, pb->mf, kind, sc->acc);
 }
 
 /* Lanes reduced in the fixed order of the file comment. */
@@ -235,7 +289,7 @@ static void reduce_gram(const double *lanes, size_t t0, size_t ne, double *G)
 void bf_fused_reduce(const bf_problem *pb, bf_pass_kind kind, const double *lanes,
                      double *basis_acc)
 {
-    const size_t nc = pb->nc, nl = lobes_of(pb), ne = n_ext(nl), L = 1 + nl;
+    const size_t nc = pb->nc, nl = lobes_of(pb), ne = n_ext(nl, pb->mf), L = 1 + nl;
     size_t t;
     if (kind == BF_PASS_COST) {
         basis_acc[0] = lane_sum(lanes);

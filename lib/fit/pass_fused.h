@@ -1,7 +1,8 @@
 /* The fused inner loop of the basis route (pass_fused.c): models of the
  * lobe form (models/basis.h: Lambert, Ashikhmin-Shirley and its two-lobe
- * variant, Phong, Blinn-Phong) on 1 or 3 channels, one register-resident
- * sweep per chunk. Not installed. */
+ * variant, Phong, Blinn-Phong) and of the microfacet form (GGX,
+ * Cook-Torrance and their two-lobe variants) on 1 or 3 channels, one
+ * register-resident sweep per chunk. Not installed. */
 #ifndef BRDFFIT_FIT_PASS_FUSED_H
 #define BRDFFIT_FIT_PASS_FUSED_H
 
@@ -21,13 +22,13 @@
 /* The best version this machine runs (BF_ISA_*). */
 unsigned bf_fused_best_isa(void);
 
-/* Set pb->isa (the best version) and pb->lobe once per problem
+/* Set pb->isa (the best version), pb->lobe and pb->mf once per problem
  * (bf_pass_prepare(), after pb->kernel). */
 void bf_fused_prepare(bf_problem *pb);
 
 /* Whether the fused loop accumulates the problem's passes of this kind
- * (COST, NORMAL, VARPRO of a kernel of the lobe form with at most two
- * lobes and 1 or 3 channels; the
+ * (COST, NORMAL, VARPRO of a kernel of the lobe form or the microfacet
+ * form with at most two lobes and 1 or 3 channels; the
  * basis route's own checks, a kernel and no missing values, come first). */
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind);
 
@@ -43,9 +44,9 @@ size_t bf_fused_acc_size(const bf_problem *pb, bf_pass_kind kind);
 void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
                     bf_scratch *sc, size_t n);
 
-/* Doubles of the largest reduced accumulator (NORMAL, two lobes, 3
- * channels: 1 + 5 x 5 + 3 x 5). */
-#define BF_FUSED_REDUCED_MAX 41
+/* Doubles of the largest reduced accumulator (NORMAL, two microfacet
+ * lobes, 3 channels: 1 + 7 x 7 + 3 x 7). */
+#define BF_FUSED_REDUCED_MAX 71
 
 /* Reduce the summed lanes into the basis route's accumulator layout
  * (pass_basis.c: NORMAL [cost, G (NE x NE, upper), H (nc x NE)], VARPRO

@@ -8,6 +8,7 @@
 #ifndef BRDFFIT_FIT_PASS_LANES_H
 #define BRDFFIT_FIT_PASS_LANES_H
 
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -16,59 +17,76 @@
 #include "fit/pass.h"
 
 #define LANES 8
-/* lobes of the lobe form (models/basis.h) the loop runs: 0, 1 or 2 */
+/* lobes of the lobe form or the microfacet form (models/basis.h) the loop
+ * runs: 0, 1 or 2 (the microfacet form 1 or 2) */
 #define MAX_LOBES 2
-/* lanes of sums with NE = 1 + 2 nl functions of the extended basis and
- * L = 1 + nl linear ones: NORMAL 1 + NE (NE + 1) / 2 + nc NE, VARPRO
- * L (L + 1) / 2 + nc (L + 1), COST 1; at most 31 */
-#define MAX_SUMS 32
+/* lanes of sums with NE functions of the extended basis (the lobe form
+ * 1 + 2 nl, the microfacet form 1 + 3 nl) and L = 1 + nl linear ones:
+ * NORMAL 1 + NE (NE + 1) / 2 + nc NE, VARPRO L (L + 1) / 2 + nc (L + 1),
+ * COST 1; at most 50 (two microfacet lobes on 3 channels) */
+#define MAX_SUMS 64
+/* functions of the largest extended basis (two microfacet lobes) */
+#define MAX_EXT (1 + 3 * MAX_LOBES)
 #define INV_PI (1.0 / BF_PI)
 
 typedef double lanes_t[LANES];
 
-/* One chunk's inputs: nl lobes sharing x and g (NULL without lobes). */
+/* One chunk's inputs: nl lobes. The lobe form: x and g shared by the
+ * lobes (NULL without lobes), ns, k, dk per lobe. The microfacet form
+ * (mf = BF_MF_GGX or BF_MF_CT): the dot products dot[0..3] = n.h, n.l,
+ * n.v, h.v of the grid's geometry, the roughness r per lobe with its
+ * parameter-only factors, and the shared F0. */
 typedef struct lobe_in {
-    const double *w, *x, *g, *m[3];
+    const double *w, *x, *g, *m[3], *dot[4];
     double ns[MAX_LOBES], k[MAX_LOBES], dk[MAX_LOBES], cd[3], cs[MAX_LOBES][3];
+    /* GGX: r2 = a^2, two_r = 2 / a, four_r = 4 a, m2_r = -2 a; CT: r2 =
+     * 1 / m^2, two_r = 2 / m (the expressions of kernel_microfacet.c) */
+    double r2[MAX_LOBES], two_r[MAX_LOBES], four_r[MAX_LOBES], m2_r[MAX_LOBES], f0;
 } lobe_in;
 
-static inline size_t n_ext(size_t nl)
+static inline size_t n_ext(size_t nl, int mf)
 {
-    return 1 + 2 * nl;
+    return mf != BF_MF_NONE ? 1 + 3 * nl : 1 + 2 * nl;
 }
 
-static inline size_t sums_of(bf_pass_kind kind, size_t nc, size_t nl)
+static inline size_t sums_of(bf_pass_kind kind, size_t nc, size_t nl, int mf)
 {
-    const size_t ne = n_ext(nl), l = 1 + nl;
+    const size_t ne = n_ext(nl, mf), l = 1 + nl;
     return kind == BF_PASS_NORMAL   ? 1 + ne * (ne + 1) / 2 + nc * ne
            : kind == BF_PASS_VARPRO ? l * (l + 1) / 2 + nc * (l + 1)
                                     : 1;
 }
 
 /* A chunk's samples beyond the last multiple of LANES, padded to LANES
- * with weight 0 (x = g = m = 0 too, so every padded term is an exact 0):
- * *t reads them from b at offset 0. */
+ * with weight 0 (x = g = m = 0 and the dot products 1, so every padded
+ * term is finite and its weighted value an exact 0): *t reads them from b
+ * at offset 0. */
 typedef struct tail_buf {
-    double w[LANES], x[LANES], g[LANES], m[3][LANES];
+    double w[LANES], x[LANES], g[LANES], m[3][LANES], dot[4][LANES];
 } tail_buf;
 
-static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, size_t nl,
+static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, size_t nl, int mf,
                             tail_buf *b, lobe_in *t)
 {
-    size_t l, c;
+    size_t l, c, k;
     memset(b, 0, sizeof *b);
+    for (k = 0; k < 4; k++)
+        for (l = 0; l < LANES; l++) b->dot[k][l] = 1.0;
     *t = *in;
     for (l = 0; i + l < n; l++) {
         b->w[l] = in->w[i + l];
-        if (nl > 0) {
+        if (nl > 0 && mf == BF_MF_NONE) {
             b->x[l] = in->x[i + l];
             b->g[l] = in->g[i + l];
         }
+        if (mf != BF_MF_NONE)
+            for (k = 0; k < 4; k++) b->dot[k][l] = in->dot[k][i + l];
         for (c = 0; c < nc; c++) b->m[c][l] = in->m[c][i + l];
     }
     t->w = b->w;
     t->x = b->x;
     t->g = b->g;
+    for (k = 0; k < 4; k++) t->dot[k] = b->dot[k];
     for (c = 0; c < nc; c++) t->m[c] = b->m[c];
 }
 
@@ -99,7 +117,7 @@ typedef struct sums_t {
 } sums_t;
 
 /* The lane's weighted basis u = w (1/pi, B_1 .. B_nl, dB_1 .. dB_nl) (the
- * derivatives only for NORMAL) and the lobes' values b. */
+ * derivatives only for NORMAL) and the lobes' values b: the lobe form. */
 static inline void lane_basis(const lobe_in *in, size_t j, size_t nl, int derivs, double *u,
                               double *b)
 {
@@ -111,6 +129,58 @@ static inline void lane_basis(const lobe_in *in, size_t j, size_t nl, int derivs
         b[q] = in->k[q] * p;
         u[1 + q] = w * b[q];
         if (derivs) u[1 + nl + q] = w * ((in->dk[q] + in->k[q] * x) * p);
+    }
+}
+
+/* The microfacet form: u = w (1/pi, B_q, dB_q/dr_q, dB_q/dF0) in the
+ * order of models/basis.h and b = B_q, with the expressions of
+ * kernel_microfacet.c (ggx_geometry(), ggx_lobe(), ct_geometry(),
+ * ct_lobe()) operation for operation. */
+static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf, int derivs,
+                                 double *u, double *b)
+{
+    const double w = in->w[j], nh = in->dot[0][j], nl_ = in->dot[1][j], nv = in->dot[2][j];
+    const double hv1 = 1.0 - in->dot[3][j], hv2 = hv1 * hv1, f5 = hv2 * hv2 * hv1;
+    const double fr = in->f0 + (1.0 - in->f0) * f5, omf = 1.0 - f5;
+    size_t q;
+    u[0] = w * INV_PI;
+    if (mf == BF_MF_GGX) {
+        const double t = (1.0 - nh) * (1.0 + nh), c2 = nh * nh;
+        const double w4 = 1.0 / (4.0 * nl_ * nv);
+        const double tl = (1.0 - nl_) * (1.0 + nl_) / (nl_ * nl_);
+        const double tv = (1.0 - nv) * (1.0 + nv) / (nv * nv);
+        for (q = 0; q < nl; q++) {
+            const double a2 = in->r2[q], iq = 1.0 / (t + a2 * c2);
+            const double d = a2 * iq * iq / BF_PI;
+            const double sl = sqrt(1.0 + a2 * tl), sv = sqrt(1.0 + a2 * tv);
+            const double r = 1.0 / ((sl + sv) * sl * sv);
+            const double gg = 2.0 * sl * sv * r;
+            const double dgs = d * gg * w4;
+            b[q] = dgs * fr;
+            u[1 + q] = w * b[q];
+            if (derivs) {
+                const double dd = d * (in->two_r[q] - in->four_r[q] * c2 * iq);
+                const double dg = in->m2_r[q] * (tl * sv + tv * sl) * sl * sv * r * r;
+                u[1 + nl + q] = w * ((dd * gg + d * dg) * w4 * fr);
+                u[1 + 2 * nl + q] = w * (dgs * omf);
+            }
+        }
+    } else {
+        const double c2 = nh * nh;
+        const double mn = nl_ < nv ? nl_ : nv, gx = 2.0 * nh * mn / in->dot[3][j];
+        const double gg = 1.0 < gx ? 1.0 : gx;
+        const double t = (1.0 - nh) * (1.0 + nh) / (nh * nh);
+        const double wc = gg / (4.0 * BF_PI * c2 * c2 * nl_ * nv);
+        for (q = 0; q < nl; q++) {
+            const double x = t * in->r2[q];
+            const double dgs = bf_exp(-x) * in->r2[q] * wc;
+            b[q] = dgs * fr;
+            u[1 + q] = w * b[q];
+            if (derivs) {
+                u[1 + nl + q] = w * (b[q] * in->two_r[q] * (x - 1.0));
+                u[1 + 2 * nl + q] = w * (dgs * omf);
+            }
+        }
     }
 }
 
@@ -127,15 +197,16 @@ static inline double lane_residual(const lobe_in *in, size_t j, size_t c, size_t
 /* NORMAL: sums [cost, G (upper, row by row), H_c (NE each)]; COST:
  * [cost]; VARPRO: [G (L x L upper), b_c (L each), rr_c] of u = w (1/pi,
  * B_1 ..) and the weighted values w m_c. */
-static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, bf_pass_kind kind,
-                         sums_t *s)
+static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, int mf,
+                         bf_pass_kind kind, sums_t *s)
 {
-    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl) : 1 + nl;
+    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl, mf) : 1 + nl;
     const size_t ng = ne * (ne + 1) / 2;
     size_t l, c, a, e, t;
     for (l = 0; l < LANES; l++) {
-        double u[1 + 2 * MAX_LOBES], b[MAX_LOBES];
-        lane_basis(in, i + l, nl, kind == BF_PASS_NORMAL, u, b);
+        double u[MAX_EXT], b[MAX_LOBES];
+        if (mf != BF_MF_NONE) lane_mf_basis(in, i + l, nl, mf, kind == BF_PASS_NORMAL, u, b);
+        else lane_basis(in, i + l, nl, kind == BF_PASS_NORMAL, u, b);
         t = kind == BF_PASS_NORMAL ? 1 : 0;
         if (kind != BF_PASS_COST)
             for (a = 0; a < ne; a++)
@@ -157,19 +228,19 @@ static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, bf_p
 
 /* The sweep over one chunk with nc and kind constant after inlining; the
  * lanes live in locals for the whole chunk. */
-static inline void sweep_plain(const lobe_in *in, size_t n, size_t nc, size_t nl,
+static inline void sweep_plain(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                                bf_pass_kind kind, double *acc)
 {
     sums_t a;
-    const size_t bytes = sums_of(kind, nc, nl) * LANES * sizeof(double);
+    const size_t bytes = sums_of(kind, nc, nl, mf) * LANES * sizeof(double);
     size_t i = 0;
     memcpy(&a, acc, bytes);
-    for (; i + LANES <= n; i += LANES) group(in, i, nc, nl, kind, &a);
+    for (; i + LANES <= n; i += LANES) group(in, i, nc, nl, mf, kind, &a);
     if (i < n) {
         tail_buf b;
         lobe_in t;
-        pad_tail(in, i, n, nc, nl, &b, &t);
-        group(&t, 0, nc, nl, kind, &a);
+        pad_tail(in, i, n, nc, nl, mf, &b, &t);
+        group(&t, 0, nc, nl, mf, kind, &a);
     }
     memcpy(acc, &a, bytes);
 }

@@ -66,6 +66,74 @@ static inline VD VN(vexp)(VD x)
     return p * (VD)(((VU)t + 1023u) << 52) * keep;
 }
 
+/* sqrt() lane by lane (the compilers make one vector square root of it) */
+static inline VD VN(vsqrt)(VD x)
+{
+    VD r;
+    int l;
+    for (l = 0; l < VW; l++) r[l] = sqrt(x[l]);
+    return r;
+}
+
+/* a < b ? a : b lane by lane (bf_min() of models/kernel.h) */
+static inline VD VN(vmin)(VD a, VD b)
+{
+    return VN(vsel)(a < b, a, b);
+}
+
+/* The microfacet form's weighted basis u and lobe values b of VW samples
+ * from i: lane_mf_basis() of pass_lanes.h, operation for operation. */
+static inline void VN(mf_basis)(const lobe_in *in, size_t i, size_t nl, int mf, int derivs, VD w,
+                                VD *u, VD *b)
+{
+    const VD one = VN(vsplat)(1.0);
+    const VD nh = VN(vload)(in->dot[0] + i), nl_ = VN(vload)(in->dot[1] + i);
+    const VD nv = VN(vload)(in->dot[2] + i), hv = VN(vload)(in->dot[3] + i);
+    const VD hv1 = one - hv, hv2 = hv1 * hv1, f5 = hv2 * hv2 * hv1;
+    const VD fr = VN(vsplat)(in->f0) + VN(vsplat)(1.0 - in->f0) * f5, omf = one - f5;
+    size_t q;
+    u[0] = w * VN(vsplat)(INV_PI);
+    if (mf == BF_MF_GGX) {
+        const VD t = (one - nh) * (one + nh), c2 = nh * nh;
+        const VD w4 = one / (VN(vsplat)(4.0) * nl_ * nv);
+        const VD tl = (one - nl_) * (one + nl_) / (nl_ * nl_);
+        const VD tv = (one - nv) * (one + nv) / (nv * nv);
+        for (q = 0; q < nl; q++) {
+            const VD a2 = VN(vsplat)(in->r2[q]), iq = one / (t + a2 * c2);
+            const VD d = a2 * iq * iq / VN(vsplat)(BF_PI);
+            const VD sl = VN(vsqrt)(one + a2 * tl), sv = VN(vsqrt)(one + a2 * tv);
+            const VD r = one / ((sl + sv) * sl * sv);
+            const VD gg = VN(vsplat)(2.0) * sl * sv * r;
+            const VD dgs = d * gg * w4;
+            b[q] = dgs * fr;
+            u[1 + q] = w * b[q];
+            if (derivs) {
+                const VD dd =
+                    d * (VN(vsplat)(in->two_r[q]) - VN(vsplat)(in->four_r[q]) * c2 * iq);
+                const VD dg = VN(vsplat)(in->m2_r[q]) * (tl * sv + tv * sl) * sl * sv * r * r;
+                u[1 + nl + q] = w * ((dd * gg + d * dg) * w4 * fr);
+                u[1 + 2 * nl + q] = w * (dgs * omf);
+            }
+        }
+    } else {
+        const VD c2 = nh * nh;
+        const VD gx = VN(vsplat)(2.0) * nh * VN(vmin)(nl_, nv) / hv;
+        const VD gg = VN(vmin)(one, gx);
+        const VD t = (one - nh) * (one + nh) / (nh * nh);
+        const VD wc = gg / (VN(vsplat)(4.0 * BF_PI) * c2 * c2 * nl_ * nv);
+        for (q = 0; q < nl; q++) {
+            const VD r2 = VN(vsplat)(in->r2[q]), x = t * r2;
+            const VD dgs = VN(vexp)(-x) * r2 * wc;
+            b[q] = dgs * fr;
+            u[1 + q] = w * b[q];
+            if (derivs) {
+                u[1 + nl + q] = w * (b[q] * VN(vsplat)(in->two_r[q]) * (x - one));
+                u[1 + 2 * nl + q] = w * (dgs * omf);
+            }
+        }
+    }
+}
+
 /* The residual, in the order of the plain version. */
 static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, size_t nl, const VD *b,
                                VD w)
@@ -77,22 +145,25 @@ static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, size_t nl,
 }
 
 /* The sums of VW samples from i, in the layout of the plain version. */
-static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl,
+static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl, int mf,
                              bf_pass_kind kind, VD *s)
 {
-    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl) : 1 + nl;
+    const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl, mf) : 1 + nl;
     const size_t ng = ne * (ne + 1) / 2;
     const VD w = VN(vload)(in->w + i);
-    VD u[1 + 2 * MAX_LOBES], b[MAX_LOBES];
+    VD u[MAX_EXT], b[MAX_LOBES];
     size_t q, a, e, c, t;
     u[0] = w * VN(vsplat)(INV_PI);
-    for (q = 0; q < nl; q++) {
-        const VD x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k[q]);
-        const VD p = VN(vexp)(VN(vsplat)(in->ns[q]) * x) * VN(vload)(in->g + i);
-        b[q] = kk * p;
-        u[1 + q] = w * b[q];
-        if (kind == BF_PASS_NORMAL) u[1 + nl + q] = w * ((VN(vsplat)(in->dk[q]) + kk * x) * p);
-    }
+    if (mf != BF_MF_NONE) VN(mf_basis)(in, i, nl, mf, kind == BF_PASS_NORMAL, w, u, b);
+    else
+        for (q = 0; q < nl; q++) {
+            const VD x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k[q]);
+            const VD p = VN(vexp)(VN(vsplat)(in->ns[q]) * x) * VN(vload)(in->g + i);
+            b[q] = kk * p;
+            u[1 + q] = w * b[q];
+            if (kind == BF_PASS_NORMAL)
+                u[1 + nl + q] = w * ((VN(vsplat)(in->dk[q]) + kk * x) * p);
+        }
     t = kind == BF_PASS_NORMAL ? 1 : 0;
     if (kind != BF_PASS_COST)
         for (a = 0; a < ne; a++)
@@ -123,30 +194,32 @@ static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl,
     VSTORE(k + 4); VSTORE(k + 5); VSTORE(k + 6); VSTORE(k + 7)
 
 /* Lanes [off, off + VW) of every sum over one chunk, in registers. */
-static inline void VN(sweep_part)(const lobe_in *in, size_t n, size_t nc, size_t nl,
+static inline void VN(sweep_part)(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                                   bf_pass_kind kind, double *acc, size_t off)
 {
     VD s[MAX_SUMS];
-    const size_t n_sums = sums_of(kind, nc, nl);
+    const size_t n_sums = sums_of(kind, nc, nl, mf);
     size_t i = 0;
     /* written out, so that s[] has constant indices only and stays in
      * registers */
     VLOAD8(0); VLOAD8(8); VLOAD8(16); VLOAD8(24);
-    for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, nl, kind, s);
+    VLOAD8(32); VLOAD8(40); VLOAD8(48); VLOAD8(56);
+    for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, nl, mf, kind, s);
     if (i < n) {
         tail_buf b;
         lobe_in t;
-        pad_tail(in, i, n, nc, nl, &b, &t);
-        VN(group)(&t, off, nc, nl, kind, s);
+        pad_tail(in, i, n, nc, nl, mf, &b, &t);
+        VN(group)(&t, off, nc, nl, mf, kind, s);
     }
     VSTORE8(0); VSTORE8(8); VSTORE8(16); VSTORE8(24);
+    VSTORE8(32); VSTORE8(40); VSTORE8(48); VSTORE8(56);
 }
 
-static inline void VN(sweep)(const lobe_in *in, size_t n, size_t nc, size_t nl,
+static inline void VN(sweep)(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                              bf_pass_kind kind, double *acc)
 {
     size_t off;
-    for (off = 0; off < LANES; off += VW) VN(sweep_part)(in, n, nc, nl, kind, acc, off);
+    for (off = 0; off < LANES; off += VW) VN(sweep_part)(in, n, nc, nl, mf, kind, acc, off);
 }
 
 #undef VLOAD

@@ -73,6 +73,24 @@ typedef struct bf_lobe {
  * expressions as the kernel, so the same basis bits. */
 int bf_kernel_lobe(const bf_kernel *k, double theta, bf_lobe *out);
 
+/* The microfacet form of a kernel, for the fit's fused passes too: nl = 1
+ * or 2 lobes, shape parameters (r_1 .. r_nl, F0) with one roughness per
+ * lobe and a Fresnel F0 shared by the lobes, linear ones (cd, cs_1 ..
+ * cs_nl), B_0 = 1/pi and B_q = D_q G_q F / (4 (n.l)(n.v)) of the family's
+ * microfacet distribution D and shadowing G (kernel_microfacet.c), with
+ * F = F0 + (1 - F0) (1 - h.v)^5. Its extended basis (fit/pass_basis.c) is
+ * (1/pi, B_1 .. B_nl, dB_1/dr_1 .. dB_nl/dr_nl, dB_1/dF0 .. dB_nl/dF0). */
+typedef enum bf_microfacet {
+    BF_MF_NONE, /* not of the microfacet form */
+    BF_MF_GGX,  /* Trowbridge-Reitz D, height-correlated Smith G */
+    BF_MF_CT    /* Beckmann D, V-cavity G (Cook-Torrance) */
+} bf_microfacet;
+
+/* The microfacet family of kernel k (BF_MF_NONE: not of the form); its
+ * lobes are n_shape - 1. The fused pass computes the kernel's expressions,
+ * so the same basis bits. */
+bf_microfacet bf_kernel_microfacet(const bf_kernel *k);
+
 /* Fill the basis of samples [first, first + count) of the batch
  * (count <= BF_KERNEL_BLOCK) at the shape parameters `shape` (the first K
  * entries of the parameter vector). */

@@ -100,6 +100,11 @@ int bf_kernel_lobe(const bf_kernel *k, double theta, bf_lobe *out)
     return 1;
 }
 
+bf_microfacet bf_kernel_microfacet(const bf_kernel *k)
+{
+    return k->mf;
+}
+
 void bf_kernel_basis(const bf_kernel *k, const brdffit_batch *batch, size_t first, size_t count,
                      const double *shape, bf_basis *out)
 {

@@ -39,6 +39,7 @@ struct bf_kernel {
     unsigned dep[BF_KERNEL_MAX_SHAPE]; /* bit m set: B_m depends on shape k */
     bf_basis_fn basis;
     bf_lobe_fn lobe;                   /* NULL: not of the lobe form */
+    bf_microfacet mf;                  /* the microfacet form's family, or BF_MF_NONE */
 };
 
 /* Evaluate a kernel over a batch with the layouts of brdffit_model_eval_fn. */

@@ -63,7 +63,7 @@ static void as_lobe_form(double ns, bf_lobe *out)
     out->dk = 1.0;
 }
 
-static const bf_kernel as_kernel = {1, 2, {2u}, as_basis, as_lobe_form};
+static const bf_kernel as_kernel = {1, 2, {2u}, as_basis, as_lobe_form, BF_MF_NONE};
 
 static brdffit_status as_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                               double *values, double *jacobian, void *user)
@@ -119,7 +119,7 @@ static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, co
 }
 
 /* ns -> cs; Rs -> cd, cs. */
-static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis, NULL};
+static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis, NULL, BF_MF_NONE};
 
 static brdffit_status asf_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)
@@ -152,7 +152,7 @@ static void as2_basis(const brdffit_batch *batch, size_t first, size_t count, co
 }
 
 /* ns1 -> cs1; ns2 -> cs2; each lobe as as_lobe_form() says. */
-static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis, as_lobe_form};
+static const bf_kernel as2_kernel = {2, 3, {2u, 4u}, as2_basis, as_lobe_form, BF_MF_NONE};
 
 static brdffit_status as2_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)

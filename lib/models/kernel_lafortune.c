@@ -45,7 +45,7 @@ static void lafortune_basis(const brdffit_batch *batch, size_t first, size_t cou
 }
 
 /* n -> cs; cz -> cs. */
-static const bf_kernel lafortune_kernel = {2, 2, {2u, 2u}, lafortune_basis, NULL};
+static const bf_kernel lafortune_kernel = {2, 2, {2u, 2u}, lafortune_basis, NULL, BF_MF_NONE};
 
 static brdffit_status lafortune_eval(const brdffit_batch *batch, const double *params,
                                      size_t n_channels, double *values, double *jacobian,

@@ -35,7 +35,7 @@ static void lambert_lobe_form(double theta, bf_lobe *out)
     memset(out, 0, sizeof *out);
 }
 
-static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis, lambert_lobe_form};
+static const bf_kernel lambert_kernel = {0, 1, {0}, lambert_basis, lambert_lobe_form, BF_MF_NONE};
 
 static brdffit_status lambert_eval(const brdffit_batch *batch, const double *params,
                                    size_t n_channels, double *values, double *jacobian, void *user)
@@ -83,7 +83,7 @@ static void phong_lobe_form(double ns, bf_lobe *out)
     out->dk = 1.0 / (2.0 * BF_PI);
 }
 
-static const bf_kernel phong_kernel = {1, 2, {2u}, phong_basis, phong_lobe_form};
+static const bf_kernel phong_kernel = {1, 2, {2u}, phong_basis, phong_lobe_form, BF_MF_NONE};
 
 static brdffit_status phong_eval(const brdffit_batch *batch, const double *params,
                                  size_t n_channels, double *values, double *jacobian, void *user)
@@ -128,7 +128,7 @@ static void blinn_lobe_form(double ns, bf_lobe *out)
     out->dk = 1.0 / (8.0 * BF_PI);
 }
 
-static const bf_kernel blinn_kernel = {1, 2, {2u}, blinn_basis, blinn_lobe_form};
+static const bf_kernel blinn_kernel = {1, 2, {2u}, blinn_basis, blinn_lobe_form, BF_MF_NONE};
 
 static brdffit_status blinn_eval(const brdffit_batch *batch, const double *params,
                                  size_t n_channels, double *values, double *jacobian, void *user)

@@ -205,12 +205,17 @@ static void ggx2_basis(const brdffit_batch *batch, size_t first, size_t count, c
     ggx_lobe(&g, count, shape[1], shape[2], two_lobe_out(out, 1));
 }
 
+/* The microfacet form (basis.h): the fit's fused loop (fit/pass_lanes.h,
+ * lane_mf_basis(), and its vector copy) computes ggx_geometry() and
+ * ggx_lobe(), ct_geometry() and ct_lobe() lane by lane with the same
+ * operations in the same order; change them together (test_fused.c
+ * checks that they agree). */
 /* rough -> cs; F0 -> cs. */
-static const bf_kernel ct_kernel = {2, 2, {2u, 2u}, ct_basis, NULL};
-static const bf_kernel ggx_kernel = {2, 2, {2u, 2u}, ggx_basis, NULL};
+static const bf_kernel ct_kernel = {2, 2, {2u, 2u}, ct_basis, NULL, BF_MF_CT};
+static const bf_kernel ggx_kernel = {2, 2, {2u, 2u}, ggx_basis, NULL, BF_MF_GGX};
 /* rough1 -> cs1; rough2 -> cs2; F0 -> cs1, cs2. */
-static const bf_kernel ct2_kernel = {3, 3, {2u, 4u, 6u}, ct2_basis, NULL};
-static const bf_kernel ggx2_kernel = {3, 3, {2u, 4u, 6u}, ggx2_basis, NULL};
+static const bf_kernel ct2_kernel = {3, 3, {2u, 4u, 6u}, ct2_basis, NULL, BF_MF_CT};
+static const bf_kernel ggx2_kernel = {3, 3, {2u, 4u, 6u}, ggx2_basis, NULL, BF_MF_GGX};
 
 static brdffit_status ct_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                               double *values, double *jacobian, void *user)
