@@ -4,7 +4,8 @@
  * arrays and dot products, a different summation order) to rounding, for
  * every kind of pass it serves, every model of the lobe form (Lambert,
  * the one-lobe models, the two-lobe Ashikhmin-Shirley) and of the
- * microfacet form (GGX, Cook-Torrance, one lobe and two), values read in place
+ * microfacet form (GGX, Cook-Torrance, one lobe and two; Ward, Ward-Duer),
+ * values read in place
  * and loaded (channel mean, clear coat), on grids whose chunks end in a
  * partial group of lanes. */
 #include <math.h>
@@ -79,7 +80,7 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
         const size_t nl = (size_t)pb->lobe - 1;
         s->params[s->vindex[0]] = 0.3;
         if (nl == 2) s->params[s->vindex[nc]] = 0.08;
-        s->params[s->vindex[nl * nc]] = 0.2;
+        if (pb->mf == BF_MF_GGX || pb->mf == BF_MF_CT) s->params[s->vindex[nl * nc]] = 0.2;
     }
     /* room for either route (the unfused one has the larger scratch, the
      * fused one of two microfacet lobes the larger accumulator) */
@@ -209,12 +210,14 @@ static void test_lambert_and_two_lobes(void **state)
     check_case("ashikhmin-shirley-2", 3, BF_SOURCE_CHANNELS, 0.04, 75.0);
 }
 
-/* The microfacet form: GGX and Cook-Torrance, one lobe and two, on 3
+/* The microfacet form: GGX and Cook-Torrance, one lobe and two, and
+ * Ward's lobes (Ward, Ward-Duer: no F0), on 3
  * channels read in place and on 1 loaded (the channel mean), at both caps
  * (the 75 degree cap leaves chunks ending in a partial group). */
 static void test_microfacet(void **state)
 {
-    static const char *const models[] = {"ggx", "ggx-2", "cook-torrance", "cook-torrance-2"};
+    static const char *const models[] = {"ggx",  "ggx-2",    "cook-torrance", "cook-torrance-2",
+                                         "ward", "ward-duer"};
     setup s;
     size_t m;
     (void)state;
@@ -229,6 +232,12 @@ static void test_microfacet(void **state)
     assert_int_equal(s.pb.mf, BF_MF_CT);
     assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 28 + 3 * 7) * 8);
     assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_VARPRO), (6 + 3 * 4) * 8);
+    setup_free(&s);
+    /* Ward: one lobe, no F0, NE = 3 (1/pi, B, dB/da) */
+    setup_init(&s, "ward-duer", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 2);
+    assert_int_equal(s.pb.mf, BF_MF_WARD_DUER);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 6 + 3 * 3) * 8);
     setup_free(&s);
     for (m = 0; m < sizeof models / sizeof models[0]; m++) {
         check_case(models[m], 3, BF_SOURCE_CHANNELS, 0.0, 90.0);

@@ -15,7 +15,8 @@
  * the lanes from the grid's dot products: the per-sample geometry (tan^2,
  * 1 / (4 n.l n.v), (1 - h.v)^5, the V-cavity G) once per group of lanes
  * and shared by the lobes, the parameter-only factors (a^2, 2 / a, 4 a,
- * -2 a; 1 / m^2, 2 / m) once per chunk. Both take the weights of the chunk
+ * -2 a; 1 / m^2, 2 / m) once per chunk; and Ward's lobes (Ward,
+ * Ward-Duer) alike, without F0. Both take the weights of the chunk
  * as the driver computed them and the measured values in place. Per
  * sample the loop evaluates the basis once and adds every sum of the pass
  * (NORMAL on 3 channels and one lobe of the lobe form: the cost, the 6
@@ -85,6 +86,10 @@ static inline void sweep_lobes(const lobe_in *in, size_t n, size_t nc, size_t nl
     } else if (mf == BF_MF_CT) {
         if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_CT, kind, acc, width);
         else sweep_kind(in, n, nc, 2, BF_MF_CT, kind, acc, width);
+    } else if (mf == BF_MF_WARD) {
+        sweep_kind(in, n, nc, 1, BF_MF_WARD, kind, acc, width);
+    } else if (mf == BF_MF_WARD_DUER) {
+        sweep_kind(in, n, nc, 1, BF_MF_WARD_DUER, kind, acc, width);
     } else {
         if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_NONE, kind, acc, width);
         else if (nl == 2) sweep_kind(in, n, nc, 2, BF_MF_NONE, kind, acc, width);
@@ -157,11 +162,11 @@ void bf_fused_prepare(bf_problem *pb)
         bf_kernel_form(pb->kernel, &f);
         pb->lobe = 1 + (int)f.n_shape;
     } else if (bf_kernel_microfacet(pb->kernel) != BF_MF_NONE) {
-        /* shape parameters: a roughness per lobe, then F0 */
+        /* shape parameters: a roughness per lobe, then F0 (Ward's: none) */
         bf_basis_form f;
         bf_kernel_form(pb->kernel, &f);
         pb->mf = (int)bf_kernel_microfacet(pb->kernel);
-        pb->lobe = (int)f.n_shape;
+        pb->lobe = (int)f.n_shape + (has_f0(pb->mf) ? 0 : 1);
     }
 }
 
@@ -176,7 +181,8 @@ static size_t lobes_of(const bf_problem *pb)
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
 {
     return pb->lobe > 0 && kind != BF_PASS_METRICS && (pb->nc == 1 || pb->nc == 3) &&
-           lobes_of(pb) <= MAX_LOBES && (pb->mf == BF_MF_NONE || lobes_of(pb) >= 1);
+           lobes_of(pb) <= MAX_LOBES && (pb->mf == BF_MF_NONE || lobes_of(pb) >= 1) &&
+           (has_f0(pb->mf) || pb->mf == BF_MF_NONE || lobes_of(pb) == 1);
 }
 
 int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)
@@ -199,16 +205,17 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     bf_lobe lobe = {BF_LOBE_X_LOG_NH, BF_LOBE_G_ONE, 0.0, 0.0};
     size_t c, i, q;
     if (pb->mf != BF_MF_NONE) {
-        /* shape (r_1 .. r_nl, F0), then (cd, cs_1 .. cs_nl) */
-        const size_t K = nl + 1;
+        /* shape (r_1 .. r_nl, F0; Ward's: a), then (cd, cs_1 .. cs_nl) */
+        const size_t K = nl + (has_f0(pb->mf) ? 1 : 0);
         for (q = 0; q < nl; q++) {
             const double r = params[pb->vindex[q * nc]];
             in->r2[q] = pb->mf == BF_MF_GGX ? r * r : 1.0 / (r * r);
             in->two_r[q] = 2.0 / r;
-            in->four_r[q] = 4.0 * r;
+            in->four_r[q] = pb->mf == BF_MF_GGX || pb->mf == BF_MF_CT ? 4.0 * r
+                                                                       : in->r2[q] / (4.0 * BF_PI);
             in->m2_r[q] = -2.0 * r;
         }
-        in->f0 = params[pb->vindex[nl * nc]];
+        in->f0 = has_f0(pb->mf) ? params[pb->vindex[nl * nc]] : 0.0;
         in->w = sc->w;
         in->x = in->g = NULL;
         in->dot[0] = geo->nh + first;

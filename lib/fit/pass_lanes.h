@@ -40,13 +40,21 @@ typedef struct lobe_in {
     const double *w, *x, *g, *m[3], *dot[4];
     double ns[MAX_LOBES], k[MAX_LOBES], dk[MAX_LOBES], cd[3], cs[MAX_LOBES][3];
     /* GGX: r2 = a^2, two_r = 2 / a, four_r = 4 a, m2_r = -2 a; CT: r2 =
-     * 1 / m^2, two_r = 2 / m (the expressions of kernel_microfacet.c) */
+     * 1 / m^2, two_r = 2 / m (the expressions of kernel_microfacet.c);
+     * Ward: r2 = 1 / a^2, two_r = 2 / a, four_r = r2 / (4 pi) (those of
+     * kernel_ward.c) */
     double r2[MAX_LOBES], two_r[MAX_LOBES], four_r[MAX_LOBES], m2_r[MAX_LOBES], f0;
 } lobe_in;
 
+/* whether the form has the shared F0 (GGX, Cook-Torrance; not Ward's) */
+static inline int has_f0(int mf)
+{
+    return mf == BF_MF_GGX || mf == BF_MF_CT;
+}
+
 static inline size_t n_ext(size_t nl, int mf)
 {
-    return mf != BF_MF_NONE ? 1 + 3 * nl : 1 + 2 * nl;
+    return has_f0(mf) ? 1 + 3 * nl : 1 + 2 * nl;
 }
 
 static inline size_t sums_of(bf_pass_kind kind, size_t nc, size_t nl, int mf)
@@ -133,9 +141,10 @@ static inline void lane_basis(const lobe_in *in, size_t j, size_t nl, int derivs
 }
 
 /* The microfacet form: u = w (1/pi, B_q, dB_q/dr_q, dB_q/dF0) in the
- * order of models/basis.h and b = B_q, with the expressions of
- * kernel_microfacet.c (ggx_geometry(), ggx_lobe(), ct_geometry(),
- * ct_lobe()) operation for operation. */
+ * order of models/basis.h (Ward's: w (1/pi, B_1, dB_1/da)) and b = B_q,
+ * with the expressions of kernel_microfacet.c (ggx_geometry(),
+ * ggx_lobe(), ct_geometry(), ct_lobe()) and kernel_ward.c
+ * (ward_basis_common()) operation for operation. */
 static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf, int derivs,
                                  double *u, double *b)
 {
@@ -165,6 +174,15 @@ static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf,
                 u[1 + 2 * nl + q] = w * (dgs * omf);
             }
         }
+    } else if (mf == BF_MF_WARD || mf == BF_MF_WARD_DUER) {
+        const double inv_n = mf == BF_MF_WARD_DUER ? in->four_r[0] / (nl_ * nv)
+                                                   : in->four_r[0] / sqrt(nl_ * nv);
+        const double x = (1.0 - nh) * (1.0 + nh) / (nh * nh) * in->r2[0];
+        (void)fr;
+        (void)omf;
+        b[0] = bf_exp(-x) * inv_n;
+        u[1] = w * b[0];
+        if (derivs) u[2] = w * (b[0] * in->two_r[0] * (x - 1.0));
     } else {
         const double c2 = nh * nh;
         const double mn = nl_ < nv ? nl_ : nv, gx = 2.0 * nh * mn / in->dot[3][j];

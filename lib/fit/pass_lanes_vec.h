@@ -115,6 +115,15 @@ static inline void VN(mf_basis)(const lobe_in *in, size_t i, size_t nl, int mf, 
                 u[1 + 2 * nl + q] = w * (dgs * omf);
             }
         }
+    } else if (mf == BF_MF_WARD || mf == BF_MF_WARD_DUER) {
+        const VD k = VN(vsplat)(in->four_r[0]);
+        const VD inv_n = mf == BF_MF_WARD_DUER ? k / (nl_ * nv) : k / VN(vsqrt)(nl_ * nv);
+        const VD x = (one - nh) * (one + nh) / (nh * nh) * VN(vsplat)(in->r2[0]);
+        (void)fr;
+        (void)omf;
+        b[0] = VN(vexp)(-x) * inv_n;
+        u[1] = w * b[0];
+        if (derivs) u[2] = w * (b[0] * VN(vsplat)(in->two_r[0]) * (x - one));
     } else {
         const VD c2 = nh * nh;
         const VD gx = VN(vsplat)(2.0) * nh * VN(vmin)(nl_, nv) / hv;

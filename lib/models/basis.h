@@ -81,14 +81,19 @@ int bf_kernel_lobe(const bf_kernel *k, double theta, bf_lobe *out);
  * F = F0 + (1 - F0) (1 - h.v)^5. Its extended basis (fit/pass_basis.c) is
  * (1/pi, B_1 .. B_nl, dB_1/dr_1 .. dB_nl/dr_nl, dB_1/dF0 .. dB_nl/dF0). */
 typedef enum bf_microfacet {
-    BF_MF_NONE, /* not of the microfacet form */
-    BF_MF_GGX,  /* Trowbridge-Reitz D, height-correlated Smith G */
-    BF_MF_CT    /* Beckmann D, V-cavity G (Cook-Torrance) */
+    BF_MF_NONE,     /* not of the microfacet form */
+    BF_MF_GGX,      /* Trowbridge-Reitz D, height-correlated Smith G */
+    BF_MF_CT,       /* Beckmann D, V-cavity G (Cook-Torrance) */
+    /* Ward's isotropic lobe in the same frame, one lobe and no F0: shape
+     * (a), B_1 = exp(-tan^2 theta_h / a^2) / (4 pi a^2 N), extended basis
+     * (1/pi, B_1, dB_1/da) (kernel_ward.c) */
+    BF_MF_WARD,     /* N = sqrt((n.l)(n.v)) */
+    BF_MF_WARD_DUER /* N = (n.l)(n.v) */
 } bf_microfacet;
 
 /* The microfacet family of kernel k (BF_MF_NONE: not of the form); its
- * lobes are n_shape - 1. The fused pass computes the kernel's expressions,
- * so the same basis bits. */
+ * lobes are n_shape - 1 (n_shape for Ward's). The fused pass computes the
+ * kernel's expressions, so the same basis bits. */
 bf_microfacet bf_kernel_microfacet(const bf_kernel *k);
 
 /* Fill the basis of samples [first, first + count) of the batch

@@ -50,8 +50,12 @@ static void ward_duer_basis(const brdffit_batch *batch, size_t first, size_t cou
     ward_basis_common(batch, first, count, shape, out, 1);
 }
 
-static const bf_kernel ward_kernel = {1, 2, {2u}, ward_basis, NULL, BF_MF_NONE};
-static const bf_kernel ward_duer_kernel = {1, 2, {2u}, ward_duer_basis, NULL, BF_MF_NONE};
+/* Of the microfacet form's frame (basis.h): the fit's fused loop
+ * (fit/pass_lanes.h, lane_mf_basis(), and its vector copy) computes
+ * ward_basis_common() lane by lane with the same operations in the same
+ * order; change them together (test_fused.c checks that they agree). */
+static const bf_kernel ward_kernel = {1, 2, {2u}, ward_basis, NULL, BF_MF_WARD};
+static const bf_kernel ward_duer_kernel = {1, 2, {2u}, ward_duer_basis, NULL, BF_MF_WARD_DUER};
 
 static brdffit_status ward_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                 double *values, double *jacobian, void *user)
