@@ -77,9 +77,11 @@ static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, si
                             tail_buf *b, lobe_in *t)
 {
     size_t l, c, k;
-    memset(b, 0, sizeof *b);
-    for (k = 0; k < 4; k++)
-        for (l = 0; l < LANES; l++) b->dot[k][l] = 1.0;
+    /* the dot products only for the microfacet form (mf is a constant) */
+    memset(b, 0, offsetof(tail_buf, dot));
+    if (mf != BF_MF_NONE)
+        for (k = 0; k < 4; k++)
+            for (l = 0; l < LANES; l++) b->dot[k][l] = 1.0;
     *t = *in;
     for (l = 0; i + l < n; l++) {
         b->w[l] = in->w[i + l];
@@ -94,7 +96,8 @@ static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, si
     t->w = b->w;
     t->x = b->x;
     t->g = b->g;
-    for (k = 0; k < 4; k++) t->dot[k] = b->dot[k];
+    if (mf != BF_MF_NONE)
+        for (k = 0; k < 4; k++) t->dot[k] = b->dot[k];
     for (c = 0; c < nc; c++) t->m[c] = b->m[c];
 }
 

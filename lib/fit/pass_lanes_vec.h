@@ -202,33 +202,49 @@ static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl, 
     VSTORE(k); VSTORE(k + 1); VSTORE(k + 2); VSTORE(k + 3); \
     VSTORE(k + 4); VSTORE(k + 5); VSTORE(k + 6); VSTORE(k + 7)
 
-/* Lanes [off, off + VW) of every sum over one chunk, in registers. */
-static inline void VN(sweep_part)(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
-                                  bf_pass_kind kind, double *acc, size_t off)
-{
-    VD s[MAX_SUMS];
-    const size_t n_sums = sums_of(kind, nc, nl, mf);
-    size_t i = 0;
-    /* written out, so that s[] has constant indices only and stays in
-     * registers */
-    VLOAD8(0); VLOAD8(8); VLOAD8(16); VLOAD8(24);
-    VLOAD8(32); VLOAD8(40); VLOAD8(48); VLOAD8(56);
-    for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, nl, mf, kind, s);
-    if (i < n) {
-        tail_buf b;
-        lobe_in t;
-        pad_tail(in, i, n, nc, nl, mf, &b, &t);
-        VN(group)(&t, off, nc, nl, mf, kind, s);
+/* Lanes [off, off + VW) of every sum over one chunk, in registers: s[]
+ * of 32 sums (the lobe form, at most 31) or of MAX_SUMS (the microfacet
+ * form), so that the smaller one is never held in memory for the
+ * larger's sake. */
+#define SWEEP_PART(name, size, LOADS, STORES)                                                   \
+    static inline void VN(name)(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,    \
+                                bf_pass_kind kind, double *acc, size_t off)                   \
+    {                                                                                         \
+        VD s[size];                                                                           \
+        const size_t n_sums = sums_of(kind, nc, nl, mf);                                      \
+        size_t i = 0;                                                                         \
+        /* written out, so that s[] has constant indices only and stays in                    \
+         * registers */                                                                       \
+        LOADS;                                                                                \
+        for (; i + LANES <= n; i += LANES) VN(group)(in, i + off, nc, nl, mf, kind, s);       \
+        if (i < n) {                                                                          \
+            tail_buf b;                                                                       \
+            lobe_in t;                                                                        \
+            pad_tail(in, i, n, nc, nl, mf, &b, &t);                                           \
+            VN(group)(&t, off, nc, nl, mf, kind, s);                                          \
+        }                                                                                     \
+        STORES;                                                                               \
     }
-    VSTORE8(0); VSTORE8(8); VSTORE8(16); VSTORE8(24);
-    VSTORE8(32); VSTORE8(40); VSTORE8(48); VSTORE8(56);
-}
+#define LOADS32 VLOAD8(0); VLOAD8(8); VLOAD8(16); VLOAD8(24)
+#define STORES32 VSTORE8(0); VSTORE8(8); VSTORE8(16); VSTORE8(24)
+#define LOADS64 LOADS32; VLOAD8(32); VLOAD8(40); VLOAD8(48); VLOAD8(56)
+#define STORES64 STORES32; VSTORE8(32); VSTORE8(40); VSTORE8(48); VSTORE8(56)
+SWEEP_PART(sweep_part32, 32, LOADS32, STORES32)
+SWEEP_PART(sweep_part64, MAX_SUMS, LOADS64, STORES64)
+#undef SWEEP_PART
+#undef LOADS32
+#undef STORES32
+#undef LOADS64
+#undef STORES64
 
 static inline void VN(sweep)(const lobe_in *in, size_t n, size_t nc, size_t nl, int mf,
                              bf_pass_kind kind, double *acc)
 {
     size_t off;
-    for (off = 0; off < LANES; off += VW) VN(sweep_part)(in, n, nc, nl, mf, kind, acc, off);
+    for (off = 0; off < LANES; off += VW) {
+        if (sums_of(kind, nc, nl, mf) <= 32) VN(sweep_part32)(in, n, nc, nl, mf, kind, acc, off);
+        else VN(sweep_part64)(in, n, nc, nl, mf, kind, acc, off);
+    }
 }
 
 #undef VLOAD
