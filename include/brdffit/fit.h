@@ -83,7 +83,8 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
     BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
     BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
-    BRDFFIT_FIT_PLAUSIBLE = 8       /**< 0, 1 (default) or 2: how the auto pipeline bounds the colours by energy conservation (see below). */
+    BRDFFIT_FIT_PLAUSIBLE = 8,      /**< 0, 1 (default) or 2: how the auto pipeline bounds the colours by energy conservation (see below). */
+    BRDFFIT_FIT_COVARIANCE = 9      /**< The estimator of brdffit_fit_std_errors() and brdffit_fit_covariance(): 0 classic (default), 1 sandwich (HC3); see brdffit_fit_covariance() for the noise each assumes. */
 } brdffit_fit_setting;
 
 /**
@@ -302,19 +303,97 @@ BRDFFIT_API brdffit_status brdffit_fit_params(const brdffit_fit *fit, double *pa
 
 /**
  * @brief Standard errors of the fitted parameters from the final LM run's
- *        covariance (log-scale parameters converted by the delta method);
- *        0 for parameters held fixed or at a bound; HUGE_VAL for a
- *        parameter the data do not determine (its Jacobian column is zero
- *        or vanished, or it lies in a direction of J^T J that the
- *        pseudo-inverse drops, see brdffit_optimizer_std_errors()); never
- *        NaN. After a cancelled auto fit (the scan's best point, not
- *        polished) all are 0. Like every call on the handle, from one
- *        thread at a time.
+ *        covariance (log-scale parameters converted by the delta method;
+ *        the estimator of ::BRDFFIT_FIT_COVARIANCE, see
+ *        brdffit_fit_covariance()); 0 for parameters held fixed or at a
+ *        bound; HUGE_VAL for a parameter the data do not determine (its
+ *        Jacobian column is zero or vanished, or it lies in a direction of
+ *        J^T J that the pseudo-inverse drops, see
+ *        brdffit_optimizer_std_errors()); never NaN. After a cancelled
+ *        auto fit (the scan's best point, not polished) all are 0. Like
+ *        every call on the handle, from one thread at a time.
  * @param fit     The fit.
  * @param[out] se brdffit_fit_param_count() values.
  * @return As brdffit_fit_params().
  */
 BRDFFIT_API brdffit_status brdffit_fit_std_errors(const brdffit_fit *fit, double *se);
+
+/**
+ * @brief The covariance of the fitted parameters: the matrix whose
+ *        diagonal's square roots are brdffit_fit_std_errors().
+ *
+ * p x p values, p = brdffit_fit_param_count(), row-major, rows and columns
+ * in the parameter layout of model.h (the channel's colours, the shared
+ * shape: brdffit_model_vector_index()). It is the final LM run's
+ * covariance at the result, over the parameters that are neither held
+ * fixed nor at a bound, in natural units: a log-scale parameter's rows
+ * and columns are converted by the delta method (multiplied by the
+ * parameter's value, as its standard error is), and the canonical lobe
+ * order of a two-lobe model swaps rows and columns with the values.
+ * - Fixed or at a bound: the parameter's row and column are 0.
+ * - Not determined by the data (standard error HUGE_VAL): HUGE_VAL on the
+ *   diagonal, 0 elsewhere in its row and column (its covariance with the
+ *   others is unknown, and 0 keeps every product with the matrix finite
+ *   for the determined ones).
+ * - Never NaN. The diagonal equals the standard errors squared up to
+ *   rounding, except that a variance beyond the double range (a standard
+ *   error above about 1e154) is HUGE_VAL while the standard error is
+ *   finite.
+ * - After a cancelled auto fit (not polished), or a cancel during the
+ *   final LM run's covariance: all 0, like the standard errors.
+ *
+ * Pipelines: auto and joint give the full matrix of one LM run over every
+ * parameter of every channel. Two-stage gives each stage's own: the
+ * shared parameters' block from the channel-mean stage, each channel's
+ * per-channel block from that channel's stage (which holds the shape
+ * fixed, so its block is conditional on it), and 0 between the blocks
+ * (covariances the stages do not estimate); channels a cancel left at
+ * the first stage's values have 0 rows, as their standard errors.
+ *
+ * The estimator (::BRDFFIT_FIT_COVARIANCE), with r_i the fit's residuals
+ * (weights and objective included, ::brdffit_objective), J their
+ * Jacobian at the result, m the number of rows with a value and q the
+ * free parameters:
+ * - 0, classic (default): s^2 (J^T J)^+, s^2 = cost / (m - q). It assumes
+ *   independent residual errors of one common variance: the noise of
+ *   every value, times its residual weight (and through the objective's
+ *   transform), has the same spread. Right for additive noise of one
+ *   level with ::BRDFFIT_WEIGHT_NONE under the squares objective; not for
+ *   noise that grows with the value (multiplicative noise, photon noise)
+ *   nor for weights that do not follow the noise (the default
+ *   solid-angle and cosine weights with noise of one level), where its
+ *   intervals are too narrow for some parameters and too wide for others
+ *   (docs/fitting.md, Standard errors, gives measured coverages).
+ * - 1, sandwich (heteroscedasticity-robust, HC3; MacKinnon and White
+ *   1985): (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i^T J_i) (J^T J)^+ with
+ *   the leverages h_i = J_i (J^T J)^+ J_i^T (1 - h_i floored at 1e-8). It
+ *   assumes only independent errors of zero mean, of any spread per
+ *   value: the choice for multiplicative noise, for weights that are not
+ *   the inverse noise levels, or when the noise model is unknown. It
+ *   costs one more pass over the samples per LM run (the generic route,
+ *   evaluating each row's Jacobian) and an O(p^3) pseudo-inverse even
+ *   where the classic one of many channels is linear in them. HC3 rather
+ *   than HC0: the leverages undo the shrinking of residuals at the rows
+ *   that pull the fit towards themselves, which makes HC0's intervals
+ *   too narrow with few samples per parameter (Long and Ervin 2000); the
+ *   optimizer's sandwich (::BRDFFIT_OPT_COVARIANCE) is the same.
+ * Both hold for every objective: they are computed from the objective's
+ * own residuals. Both are first-order (linearised) estimates at the
+ * result; neither knows about correlated errors between samples.
+ *
+ * brdffit_fit_many() does not return covariances (::brdffit_many_out has
+ * standard errors only); fit an item alone for its covariance.
+ * Like every call on the handle, from one thread at a time; the values
+ * are copied into the caller's array, which the fit does not keep.
+ * @param fit      The fit.
+ * @param[out] cov p * p values.
+ * @return ::BRDFFIT_OK; ::BRDFFIT_E_NOT_READY before a successful run;
+ *         ::BRDFFIT_E_INVALID_ARGUMENT for NULL; ::BRDFFIT_E_BAD_HANDLE
+ *         for a destroyed fit; ::BRDFFIT_E_TOO_LARGE when p exceeds
+ *         ::BRDFFIT_FIT_MAX_PARAMS (two-stage fits of very many channels:
+ *         the matrix is not kept; the standard errors are).
+ */
+BRDFFIT_API brdffit_status brdffit_fit_covariance(const brdffit_fit *fit, double *cov);
 
 /**
  * @brief An error figure of the fitted parameters.

@@ -7,7 +7,8 @@
  * brdffit_fit_many() takes a prototype fit (fit.h): its grid gives the
  * geometry (directions, axes, sample weights; its values are not used), its
  * model and options (pipeline, objective, cap, weighting, clear coat,
- * iteration limit, damping policy, start values, fixed parameters) apply to
+ * iteration limit, damping policy, start values, fixed parameters, the
+ * standard errors' estimator ::BRDFFIT_FIT_COVARIANCE) apply to
  * every item, and its thread count (::BRDFFIT_FIT_THREADS) is the number of
  * threads the call runs on. Each thread fits whole items, one after
  * another, on a private fit over a view of the prototype's geometry whose
@@ -48,7 +49,7 @@ typedef struct brdffit_many_out {
     size_t struct_size;         /**< sizeof(brdffit_many_out) as the caller knows it. */
     brdffit_status *status;     /**< n_items: ::BRDFFIT_OK, or why the item failed (below). */
     double *params;             /**< n_items * brdffit_fit_param_count(): parameter vectors. */
-    double *std_errors;         /**< n_items * brdffit_fit_param_count(): standard errors. */
+    double *std_errors;         /**< n_items * brdffit_fit_param_count(): standard errors (no covariances: see brdffit_fit_covariance()). */
     double *cost;               /**< n_items: ::BRDFFIT_METRIC_COST, all channels. */
     double *rms;                /**< n_items: ::BRDFFIT_METRIC_RMS, all channels. */
     double *ngan;               /**< n_items: ::BRDFFIT_METRIC_NGAN, all channels. */

@@ -19,7 +19,8 @@ typedef struct best_polish {
 } best_polish;
 
 /* Keep the LM run just made when it beats the best so far: its
- * parameters, standard errors and report, and the only polish the trace
+ * parameters, standard errors, covariance (st->cov, of the same run) and
+ * report, and the only polish the trace
  * keeps. `work` has 2 n doubles: the run's parameters and standard errors. */
 static brdffit_status keep_if_best(bf_stage *st, best_polish *best, const double *work)
 {
@@ -33,6 +34,7 @@ static brdffit_status keep_if_best(bf_stage *st, best_polish *best, const double
     best->stage = st->traced;
     memcpy(r->params, work, st->n * sizeof *work);
     memcpy(r->std_errors, work + st->n, st->n * sizeof *work);
+    if (r->cov != NULL) memcpy(r->cov, st->cov, st->n * st->n * sizeof *r->cov);
     return bf_result_keep_report(r, st->opt, &st->run->fit->alloc);
 }
 
@@ -116,13 +118,16 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
 {
     bf_result *r = st->run->result;
     double cost;
-    if (sc->n_best == 0) memcpy(st->p, st->base, st->n * sizeof *st->p);
-    else bf_scan_set_point(st, sc, sc->best[0].u);
+    if (sc->n_best == 0)
+        memcpy(st->p, st->base, st->n * sizeof *st->p);
+    else
+        bf_scan_set_point(st, sc, sc->best[0].u);
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0));
     BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
     BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
     memcpy(r->params, st->p, st->n * sizeof *r->params);
     memset(r->std_errors, 0, st->n * sizeof *r->std_errors);
+    if (r->cov != NULL) memset(r->cov, 0, st->n * st->n * sizeof *r->cov);
     return BRDFFIT_OK;
 }
 

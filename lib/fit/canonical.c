@@ -5,7 +5,24 @@
 
 #include "models/lobes.h"
 
-static void swap_entries(bf_result *r, size_t a, size_t b)
+/* Swap rows a and b, then columns a and b, of the n x n covariance. */
+static void swap_covariance(double *cov, size_t n, size_t a, size_t b)
+{
+    size_t i;
+    double t;
+    for (i = 0; i < n; i++) {
+        t = cov[a * n + i];
+        cov[a * n + i] = cov[b * n + i];
+        cov[b * n + i] = t;
+    }
+    for (i = 0; i < n; i++) {
+        t = cov[i * n + a];
+        cov[i * n + a] = cov[i * n + b];
+        cov[i * n + b] = t;
+    }
+}
+
+static void swap_entries(bf_result *r, size_t n, size_t a, size_t b)
 {
     double t = r->params[a];
     r->params[a] = r->params[b];
@@ -13,6 +30,7 @@ static void swap_entries(bf_result *r, size_t a, size_t b)
     t = r->std_errors[a];
     r->std_errors[a] = r->std_errors[b];
     r->std_errors[b] = t;
+    if (r->cov != NULL) swap_covariance(r->cov, n, a, b);
 }
 
 /* Swap declared parameters k and l in every channel. */
@@ -22,7 +40,7 @@ static void swap_params(const bf_run *run, size_t k, size_t l)
     size_t c, nc = run->fit->nc;
     int per = (brdffit_model_param(model, k)->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
     for (c = 0; c < (per ? nc : 1); c++)
-        swap_entries(run->result, brdffit_model_vector_index(model, k, c, nc),
+        swap_entries(run->result, run->fit->n_vec, brdffit_model_vector_index(model, k, c, nc),
                      brdffit_model_vector_index(model, l, c, nc));
 }
 

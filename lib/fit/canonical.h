@@ -7,7 +7,8 @@
 
 /* For a model whose description has two interchangeable lobes (the
  * built-in two-lobe models; models/lobes.h), swap the lobes of run->result
- * (their sharpness and colours: values and standard errors) unless lobe 1
+ * (their sharpness and colours: values, standard errors and the rows and
+ * columns of the covariance) unless lobe 1
  * is already the sharper: the larger value of a sharpness that grows with
  * it (an exponent), the smaller otherwise (a roughness). Nothing changes
  * when either lobe's parameters are held fixed. */

@@ -26,6 +26,7 @@ static void fit_free_arrays(brdffit_fit *fit)
     bf_free(&fit->alloc, fit->start);
     bf_free(&fit->alloc, fit->fixed);
     bf_free(&fit->alloc, fit->result.params);
+    bf_free(&fit->alloc, fit->result.cov);
     bf_free(&fit->alloc, fit->result.history);
     bf_trace_free(&fit->result.trace, &fit->alloc);
 }
@@ -55,6 +56,7 @@ static void fit_defaults(brdffit_fit *fit)
     fit->max_iterations = 200;
     fit->objective = BRDFFIT_OBJECTIVE_SQUARES;
     fit->plausible = 1;
+    fit->sandwich = 0;
     fit->damping = *brdffit_damping_nielsen();
     brdffit_model_default_params(fit->model, fit->nc, fit->start);
     for (k = 0; k < brdffit_model_param_count(fit->model); k++)
@@ -111,11 +113,11 @@ const char *brdffit_fit_message(const brdffit_fit *fit)
     return fit->message;
 }
 
-#define BF_CHECK_FIT(fit)                                                \
-    do {                                                                 \
-        if ((fit) == NULL) return BRDFFIT_E_INVALID_ARGUMENT;            \
-        if (!fit_ok(fit)) return BRDFFIT_E_BAD_HANDLE;                   \
-        (fit)->message[0] = '\0';                                        \
+#define BF_CHECK_FIT(fit)                                     \
+    do {                                                      \
+        if ((fit) == NULL) return BRDFFIT_E_INVALID_ARGUMENT; \
+        if (!fit_ok(fit)) return BRDFFIT_E_BAD_HANDLE;        \
+        (fit)->message[0] = '\0';                             \
     } while (0)
 
 /* For calls that change the fit: not from inside its own run (its
@@ -170,15 +172,17 @@ brdffit_status brdffit_fit_set(brdffit_fit *fit, brdffit_fit_setting setting, do
         if (!is_whole(value, 0, 2)) break;
         fit->plausible = (int)value;
         return BRDFFIT_OK;
-    default:
-        return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "unknown fit setting");
+    case BRDFFIT_FIT_COVARIANCE:
+        if (!is_whole(value, 0, 1)) break;
+        fit->sandwich = (int)value;
+        return BRDFFIT_OK;
+    default: return fit_fail(fit, BRDFFIT_E_INVALID_ARGUMENT, "unknown fit setting");
     }
     return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
                   "value %g out of range for fit setting %d", value, (int)setting);
 }
 
-brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setting,
-                               double *value)
+brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setting, double *value)
 {
     if (fit == NULL || value == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     if (!fit_ok(fit)) return BRDFFIT_E_BAD_HANDLE;
@@ -191,6 +195,7 @@ brdffit_status brdffit_fit_get(const brdffit_fit *fit, brdffit_fit_setting setti
     case BRDFFIT_FIT_MAX_ITERATIONS: *value = (double)fit->max_iterations; return BRDFFIT_OK;
     case BRDFFIT_FIT_OBJECTIVE: *value = (double)fit->objective; return BRDFFIT_OK;
     case BRDFFIT_FIT_PLAUSIBLE: *value = (double)fit->plausible; return BRDFFIT_OK;
+    case BRDFFIT_FIT_COVARIANCE: *value = (double)fit->sandwich; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }
@@ -225,8 +230,8 @@ brdffit_status brdffit_fit_set_start(brdffit_fit *fit, const double *params)
         for (c = 0; c < fit->nc; c++) {
             double v = params[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
             if (!isfinite(v))
-                return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT,
-                              "start value of %s is %g", info->name, v);
+                return bf_say(fit->message, BRDFFIT_E_INVALID_ARGUMENT, "start value of %s is %g",
+                              info->name, v);
             if (v < info->lower || v > info->upper)
                 return bf_say(fit->message, BRDFFIT_E_RANGE,
                               "start value %g of %s is outside [%g, %g]", v, info->name,
@@ -287,9 +292,20 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
                       fit->pipeline == BRDFFIT_PIPELINE_AUTO ? "auto" : "joint",
                       brdffit_model_name(fit->model), fit->n_vec, fit->nc, BRDFFIT_FIT_MAX_PARAMS);
     }
+    /* the covariance's storage, made at the first run that can keep it */
+    if (fit->result.cov == NULL && fit->n_vec <= BRDFFIT_FIT_MAX_PARAMS) {
+        fit->result.cov = bf_calloc(&fit->alloc, fit->n_vec * fit->n_vec, sizeof(double));
+        if (fit->result.cov == NULL) {
+            atomic_store(&fit->cancel, 0);
+            return fit_fail(fit, BRDFFIT_E_OUT_OF_MEMORY, "out of memory for the covariance");
+        }
+    }
+    if (fit->result.cov != NULL)
+        memset(fit->result.cov, 0, fit->n_vec * fit->n_vec * sizeof *fit->result.cov);
     memset(&r, 0, sizeof r);
     r.params = fit->result.params;
     r.std_errors = fit->result.std_errors;
+    r.cov = fit->result.cov;
     r.metrics = fit->result.metrics;
     r.message = fit->message;
     fit->running = 1;
@@ -328,6 +344,14 @@ brdffit_status brdffit_fit_std_errors(const brdffit_fit *fit, double *se)
     return BRDFFIT_OK;
 }
 
+brdffit_status brdffit_fit_covariance(const brdffit_fit *fit, double *cov)
+{
+    BF_RETURN_IF_ERROR(result_ready(fit, cov));
+    if (fit->result.cov == NULL) return BRDFFIT_E_TOO_LARGE;
+    memcpy(cov, fit->result.cov, fit->n_vec * fit->n_vec * sizeof *cov);
+    return BRDFFIT_OK;
+}
+
 /* One metric from the per-channel sums [sum d^2, sum a (cos d)^2, sum a, cost]. */
 static double metric_of(brdffit_fit_metric metric, const double *sums)
 {
@@ -339,8 +363,8 @@ static double metric_of(brdffit_fit_metric metric, const double *sums)
     return 0.0;
 }
 
-brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit_metric metric,
-                                 size_t channel, double *value)
+brdffit_status brdffit_fit_error(const brdffit_fit *fit, brdffit_fit_metric metric, size_t channel,
+                                 double *value)
 {
     double sums[4] = {0.0, 0.0, 0.0, 0.0};
     size_t c, i;

@@ -28,6 +28,7 @@ struct brdffit_fit {
     size_t max_iterations;
     brdffit_objective objective;
     int plausible;              /* BRDFFIT_FIT_PLAUSIBLE */
+    int sandwich;               /* BRDFFIT_FIT_COVARIANCE: 1 sandwich (HC3), 0 classic */
     brdffit_damping damping;
     double *start;              /* n_vec: start values (model defaults unless set) */
     unsigned char *fixed;       /* per declared parameter */

@@ -15,14 +15,44 @@ brdffit_status bf_pipeline_joint(bf_run *run)
     if (status != BRDFFIT_OK) return status;
     st.kind = BRDFFIT_STAGE_JOINT;
     status = bf_stage_lm(&st, st.base, r->params, r->std_errors);
+    if (status == BRDFFIT_OK && r->cov != NULL)
+        memcpy(r->cov, st.cov, st.n * st.n * sizeof *r->cov);
     if (status == BRDFFIT_OK) status = bf_result_keep_report(r, st.opt, &run->fit->alloc);
     bf_stage_free(&st);
     return status;
 }
 
+/* The covariance of channel c's entries (the run's result is zero
+ * elsewhere): shared with shared from stage 1, per-channel with
+ * per-channel from stage 2 (`second`, when given), 0 between the two (the
+ * stages estimate them apart: stage 2 holds the shape); all 0 when
+ * `first_se` is 0, as place_channel() sets the standard errors. */
+static void place_covariance(bf_run *run, const bf_stage *first, int first_se,
+                             const bf_stage *second, size_t c)
+{
+    const brdffit_model *model = run->fit->model;
+    size_t nc = run->fit->nc, nv = run->fit->n_vec, np = first->pb.ly.n_params, k, l;
+    double *cov = run->result->cov;
+    if (cov == NULL) return;
+    for (k = 0; k < np; k++) {
+        size_t to = brdffit_model_vector_index(model, k, c, nc);
+        int per_k = (brdffit_model_param(model, k)->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
+        for (l = 0; l < np; l++) {
+            size_t at = brdffit_model_vector_index(model, l, c, nc);
+            int per_l = (brdffit_model_param(model, l)->flags & BRDFFIT_PARAM_PER_CHANNEL) != 0;
+            double v = 0.0;
+            if (second != NULL && per_k && per_l)
+                v = second->cov[second->vindex[k] * second->n + second->vindex[l]];
+            else if (first_se && (second == NULL || (!per_k && !per_l)))
+                v = first->cov[first->vindex[k] * first->n + first->vindex[l]];
+            cov[to * nv + at] = v;
+        }
+    }
+}
+
 /* Stage 1's result (natural units, nc = 1 layout) for channel c of the
  * result, its standard errors zero when `se1` is NULL; per-channel entries
- * of stage 2 (`p2`, `se2`) when given. */
+ * of stage 2 (`p2`, `se2`) when given; and their covariance. */
 static void place_channel(bf_run *run, const bf_stage *first, const double *p1, const double *se1,
                           const bf_stage *second, const double *p2, const double *se2, size_t c)
 {
@@ -39,6 +69,7 @@ static void place_channel(bf_run *run, const bf_stage *first, const double *p1, 
             run->result->std_errors[to] = se1 != NULL ? se1[from] : 0.0;
         }
     }
+    place_covariance(run, first, se1 != NULL, second, c);
 }
 
 /* Stage 2 of the thesis: channel c's per-channel parameters with the shape

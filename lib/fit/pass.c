@@ -45,17 +45,20 @@ void bf_pass_prepare(bf_problem *pb)
  * objective and keeps the problem's route. */
 static const bf_route *route_for(const bf_problem *pb, bf_pass_kind kind)
 {
+    if (kind == BF_PASS_SANDWICH) return &bf_route_generic; /* rows, one at a time */
     if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES && kind != BF_PASS_VARPRO)
         return &bf_route_generic;
     return (pb->route->kinds & (1u << kind)) ? pb->route : &bf_route_generic;
 }
 
 /* Doubles of the routes' own scratch: the problem's route's, and the
- * generic route's when it takes COST and NORMAL (METRICS needs none of it). */
+ * generic route's when it takes COST and NORMAL or SANDWICH (METRICS needs
+ * none of it). */
 static size_t own_size(const bf_problem *pb)
 {
     size_t own = pb->route->scratch_size(pb), generic = 0;
-    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES) generic = bf_route_generic.scratch_size(pb);
+    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES || pb->sandwich)
+        generic = bf_route_generic.scratch_size(pb);
     return own > generic ? own : generic;
 }
 
@@ -67,11 +70,13 @@ size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind)
     case BF_PASS_NORMAL: return 1 + nv + nv * nv;
     case BF_PASS_VARPRO: return pb->nc * (1 + k + k * k);
     case BF_PASS_METRICS: return pb->nc * 4;
+    case BF_PASS_SANDWICH: return nv * nv;
     }
     return 0;
 }
 
-/* Largest accumulator of any kind: the final one or a route's partial one. */
+/* Largest accumulator of any kind: the final one or a route's partial one
+ * (SANDWICH's, n * n on the generic route, is smaller than NORMAL's). */
 static size_t max_acc_size(const bf_problem *pb)
 {
     static const bf_pass_kind kinds[] = {BF_PASS_COST, BF_PASS_NORMAL, BF_PASS_VARPRO,
@@ -164,7 +169,7 @@ static void worker_task(void *arg, size_t task)
     }
 }
 
-/* Mirror the upper triangles accumulated by NORMAL and VARPRO. */
+/* Mirror the upper triangles accumulated by NORMAL, SANDWICH and VARPRO. */
 static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
 {
     size_t i, j, m, nv = pb->ly.n_vec;
@@ -172,6 +177,9 @@ static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
         double *jtj = acc + 1 + nv;
         for (i = 0; i < nv; i++)
             for (j = 0; j < i; j++) jtj[i * nv + j] = jtj[j * nv + i];
+    } else if (kind == BF_PASS_SANDWICH) {
+        for (i = 0; i < nv; i++)
+            for (j = 0; j < i; j++) acc[i * nv + j] = acc[j * nv + i];
     } else if (kind == BF_PASS_VARPRO) {
         size_t K = pb->ly.n_linear, stride = 1 + K + K * K;
         for (m = 0; m < pb->nc; m++) {
@@ -209,8 +217,8 @@ static size_t start_workers(worker *wk, const bf_problem *pb, const bf_route *ro
     return threads;
 }
 
-brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *params,
-                       double *acc, brdffit_error *err)
+brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *params, double *acc,
+                       brdffit_error *err)
 {
     worker wk[BF_MAX_THREADS];
     const bf_route *route = route_for(pb, kind);

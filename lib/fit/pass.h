@@ -14,6 +14,11 @@
  *           columns of the K linear parameters, W = diag(w^2)
  *   METRICS per channel m: [sum d^2, sum a (cos d)^2, sum a, sum (w d)^2],
  *           d = M - R, a the solid-angle weight alone
+ *   SANDWICH [sum_i (r_i / (1 - h_i))^2 J_i^T J_i (n * n)], the rows i and
+ *           r, J of NORMAL, h_i = J_i B J_i^T with B = pb->bread (the
+ *           covariance's pseudo-inverse of J^T J, model-parameter space),
+ *           1 - h_i floored at 1e-8 as the optimizer's own sandwich does:
+ *           the meat of the HC3 sandwich covariance
  * The chunks are split into `threads` contiguous blocks, run by the pool's
  * helpers and the calling thread, and the blocks' partial sums are added in
  * block order, so a pass is deterministic for a given thread count. The
@@ -24,7 +29,8 @@
  * for models in basis form (models/basis.h) on grids without missing
  * values, for every pass under the squares objective and for VARPRO (the
  * squares of values) under any; the generic route for any model and
- * objective. bf_pass_prepare() chooses it once per problem. */
+ * objective. bf_pass_prepare() chooses it once per problem; SANDWICH needs
+ * each row's Jacobian and always takes the generic route. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
@@ -44,7 +50,8 @@ typedef enum bf_pass_kind {
     BF_PASS_COST,
     BF_PASS_NORMAL,
     BF_PASS_VARPRO,
-    BF_PASS_METRICS
+    BF_PASS_METRICS,
+    BF_PASS_SANDWICH
 } bf_pass_kind;
 
 #define BF_MAX_THREADS 64
@@ -74,6 +81,9 @@ typedef struct bf_problem {
     size_t threads;                /* blocks of a pass (at most BF_MAX_THREADS) */
     bf_pool *pool;                 /* helper threads for the blocks; NULL: the caller runs all */
     double *work;                  /* bf_pass_work_size() doubles, owned by the caller */
+    int sandwich;                  /* SANDWICH passes will be run (the generic route's
+                                    * scratch is sized in whatever the route) */
+    const double *bread;           /* SANDWICH: n_vec * n_vec (J^T J)^+, borrowed */
     /* set by bf_pass_prepare() */
     const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
     const struct bf_route *route;  /* how chunks are accumulated */

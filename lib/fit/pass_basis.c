@@ -64,7 +64,8 @@ static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
     case BF_PASS_COST: return 1;
     case BF_PASS_NORMAL: return 1 + eb.NE * eb.NE + pb->nc * eb.NE;
     case BF_PASS_VARPRO: return eb.L * eb.L + pb->nc * (eb.L + 1);
-    case BF_PASS_METRICS: break;
+    case BF_PASS_METRICS:
+    case BF_PASS_SANDWICH: break; /* the generic route's */
     }
     return 0;
 }

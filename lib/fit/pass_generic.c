@@ -13,7 +13,7 @@
 
 static int wants_jacobian(bf_pass_kind kind)
 {
-    return kind == BF_PASS_NORMAL || kind == BF_PASS_VARPRO;
+    return kind == BF_PASS_NORMAL || kind == BF_PASS_VARPRO || kind == BF_PASS_SANDWICH;
 }
 
 static int generic_serves(const bf_problem *pb)
@@ -93,12 +93,13 @@ static void objective_rows(const bf_problem *pb, const bf_scratch *sc, size_t m,
 
 /* The rows of channel m: weighted residuals into sc->d and row factors
  * into sc->ww, squares exactly as ever, other objectives transformed. */
-static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz,
-                         size_t n)
+static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz, size_t n)
 {
     row_weights(sc, m, n, sc->ww);
-    if (pb->objective == BRDFFIT_OBJECTIVE_SQUARES) weighted_residuals(sc, m, n, sc->d);
-    else objective_rows(pb, sc, m, lz, n, sc->d, sc->ww);
+    if (pb->objective == BRDFFIT_OBJECTIVE_SQUARES)
+        weighted_residuals(sc, m, n, sc->d);
+    else
+        objective_rows(pb, sc, m, lz, n, sc->d, sc->ww);
 }
 
 static void scale_rows(double *restrict x, const double *restrict rw, size_t n)
@@ -166,8 +167,10 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
         double *acc = sc->acc + m * stride, *b = acc + 1, *G = acc + 1 + K;
         double *rm = sc->d;
         row_weights(sc, m, n, sc->ww);
-        if (pb->ly.offset) remove_offset(pb, sc, jac, params, m, n, rm);
-        else memcpy(rm, sc->meas + m * n, n * sizeof *rm);
+        if (pb->ly.offset)
+            remove_offset(pb, sc, jac, params, m, n, rm);
+        else
+            memcpy(rm, sc->meas + m * n, n * sizeof *rm);
         scale_rows(rm, sc->ww, n);
         acc[0] += bf_dot(rm, rm, n);
         for (q = 0; q < K; q++) scale_rows(jac + (lin[q] * nc + m) * n, sc->ww, n);
@@ -175,6 +178,44 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
             const double *bq = jac + (lin[q] * nc + m) * n;
             b[q] += bf_dot(bq, rm, n);
             for (r = q; r < K; r++) G[q * K + r] += bf_dot(bq, jac + (lin[r] * nc + m) * n, n);
+        }
+    }
+}
+
+/* The sandwich's meat (pass.h, SANDWICH): each row's leverage
+ * h = J_i B J_i^T from its Jacobian (weighted rows, as NORMAL's) and its
+ * residual's HC3 weight (r / (1 - h))^2, the floor of 1 - h as the
+ * optimizer's (analysis.c); upper triangle, mirrored by the driver. */
+static void accumulate_sandwich(const bf_problem *pb, bf_scratch *sc, double *jac, const double *lz,
+                                size_t n)
+{
+    size_t nv = pb->ly.n_vec, np = pb->ly.n_params, nc = pb->nc, m, k, l, s;
+    const double *B = pb->bread;
+    double *meat = sc->acc;
+    for (m = 0; m < nc; m++) {
+        const size_t *at = pb->vindex + m; /* at[k * nc]: entry of declared k */
+        const double *col = jac + m * n;   /* col[k * nc * n + s]: J of declared k, row s */
+        channel_rows(pb, sc, m, lz, n);
+        for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
+        for (s = 0; s < n; s++) {
+            double h = 0.0, q, r2;
+            if (sc->d[s] == 0.0) continue; /* no weight, no value, or an exact fit */
+            for (k = 0; k < np; k++) {
+                const double *bk = B + at[k * nc] * nv;
+                double t = 0.0;
+                for (l = 0; l < np; l++) t += bk[at[l * nc]] * col[l * nc * n + s];
+                h += col[k * nc * n + s] * t;
+            }
+            q = fmax(1.0 - h, 1e-8);
+            r2 = sc->d[s] * sc->d[s] / (q * q);
+            for (k = 0; k < np; k++) {
+                double jk = r2 * col[k * nc * n + s];
+                for (l = k; l < np; l++) {
+                    size_t a = at[k * nc], b = at[l * nc];
+                    size_t lo = a < b ? a : b, hi = a < b ? b : a;
+                    meat[lo * nv + hi] += jk * col[l * nc * n + s];
+                }
+            }
         }
     }
 }
@@ -224,7 +265,8 @@ static size_t first_nonfinite(const double *x, size_t n)
 /* Where model channel m's values come from, for messages. */
 static void channel_name(const bf_problem *pb, size_t m, char *out, size_t size)
 {
-    if (pb->source == BF_SOURCE_MEAN) snprintf(out, size, " of the channel mean");
+    if (pb->source == BF_SOURCE_MEAN)
+        snprintf(out, size, " of the channel mean");
     else
         snprintf(out, size, ", channel %zu",
                  pb->source == BF_SOURCE_ONE_CHANNEL ? pb->source_channel : m);
@@ -242,8 +284,8 @@ static brdffit_status check_outputs(const bf_problem *pb, size_t first, size_t n
     if (i < per) {
         channel_name(pb, i / n, where, sizeof where);
         return bf_fail(err, BRDFFIT_E_NONFINITE,
-                       "model \"%s\" gave a non-finite value (%g) at sample %zu%s", model,
-                       vals[i], first + i % n, where);
+                       "model \"%s\" gave a non-finite value (%g) at sample %zu%s", model, vals[i],
+                       first + i % n, where);
     }
     if (jac == NULL || (i = first_nonfinite(jac, per * pb->ly.n_params)) == per * pb->ly.n_params)
         return BRDFFIT_OK;
@@ -286,6 +328,7 @@ static int sums_finite(const bf_problem *pb, bf_pass_kind kind, const double *ac
 {
     size_t K = pb->ly.n_linear, m;
     if (kind == BF_PASS_COST || kind == BF_PASS_NORMAL) return isfinite(acc[0]);
+    if (kind == BF_PASS_SANDWICH) return 1; /* the driver checks the whole sum */
     for (m = 0; m < pb->nc; m++) {
         const double *a = kind == BF_PASS_METRICS ? acc + 4 * m : acc + m * (1 + K + K * K);
         if (!isfinite(a[0]) || (kind == BF_PASS_METRICS && !isfinite(a[3]))) return 0;
@@ -294,8 +337,7 @@ static int sums_finite(const bf_problem *pb, bf_pass_kind kind, const double *ac
 }
 
 static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
-                                    bf_scratch *sc, const brdffit_batch *batch,
-                                    brdffit_error *err)
+                                    bf_scratch *sc, const brdffit_batch *batch, brdffit_error *err)
 {
     double *jac = wants_jacobian(kind) ? sc->own : NULL;
     size_t n = batch->n, first = (size_t)(batch->lz - pb->grid->geo.lz);
@@ -307,6 +349,7 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
     case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, batch->lz, n); break;
     case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, params, n); break;
     case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
+    case BF_PASS_SANDWICH: accumulate_sandwich(pb, sc, jac, batch->lz, n); break;
     }
     return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, batch, first, err);
 }
@@ -318,7 +361,11 @@ static void generic_finish(const bf_problem *pb, bf_pass_kind kind, const double
     memcpy(acc, part, bf_pass_acc_size(pb, kind) * sizeof *acc);
 }
 
-const bf_route bf_route_generic = {
-    (1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) | (1u << BF_PASS_VARPRO) |
-        (1u << BF_PASS_METRICS),
-    generic_serves, bf_pass_acc_size, generic_scratch_size, generic_chunk, generic_finish};
+const bf_route bf_route_generic = {(1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) |
+                                       (1u << BF_PASS_VARPRO) | (1u << BF_PASS_METRICS) |
+                                       (1u << BF_PASS_SANDWICH),
+                                   generic_serves,
+                                   bf_pass_acc_size,
+                                   generic_scratch_size,
+                                   generic_chunk,
+                                   generic_finish};

@@ -16,6 +16,8 @@ typedef struct bf_result {
     /* natural units, vector layout; storage lent by the handle */
     double *params;             /* n_vec */
     double *std_errors;         /* n_vec */
+    double *cov;                /* n_vec * n_vec, the std errors' covariance; NULL when
+                                 * n_vec > BRDFFIT_FIT_MAX_PARAMS (two-stage only) */
     double *metrics;            /* 4 * nc: see BF_PASS_METRICS */
     brdffit_stop_reason stop;   /* of the final LM run */
     size_t iterations;          /* of the final LM run */

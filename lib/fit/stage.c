@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "optim/sandwich.h"
 #include "optim/watch.h"
 
 static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t n_acc,
@@ -52,6 +53,7 @@ static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t sourc
     bf_layout_init(&st->pb.ly, fit->model, nc);
     st->pb.threads = fit->threads;
     st->pb.pool = &st->run->pool;
+    st->pb.sandwich = fit->sandwich;
     bf_pass_prepare(&st->pb);
 }
 
@@ -139,6 +141,7 @@ void bf_stage_free(bf_stage *st)
     bf_free(a, st->logs);
     bf_free(a, st->lower);
     bf_free(a, st->pb.work);
+    bf_free(a, st->cov);
     memset(st, 0, sizeof *st);
 }
 
@@ -250,15 +253,71 @@ static brdffit_status configure(bf_stage *st, size_t rows)
     return brdffit_optimizer_set_callback(opt, stage_iteration, st);
 }
 
-/* The natural result and standard errors of the run ending at x. */
-static void collect(bf_stage *st, const double *x, double *params, double *se)
+/* The factor of entry e from the optimiser's space to natural units at
+ * natural params: d p / d x, p for a log-scale entry (the delta method). */
+static double natural_factor(const bf_stage *st, const double *params, size_t e)
 {
-    size_t e;
+    return st->logs[e] ? params[e] : 1.0;
+}
+
+/* The sandwich's meat at the run's result (natural params) handed to the
+ * optimizer: its (J^T J)^+ in natural units as the pass's bread, one
+ * SANDWICH pass over the fit's own rows (weights and objective
+ * included), the meat back in the optimiser's space. 1 when it is set,
+ * 0 when a cancel stopped the pseudo-inverse; a pass failure is returned
+ * in *status. Works in st->cov and st->acc. */
+static int prepare_sandwich(bf_stage *st, const double *params, brdffit_status *status)
+{
+    size_t n = st->n, a, b;
+    double *bread = st->cov;
+    *status = BRDFFIT_OK;
+    if (!bf_optim_bread(st->opt, bread)) return 0;
+    for (a = 0; a < n; a++)
+        for (b = 0; b < n; b++)
+            bread[a * n + b] *= natural_factor(st, params, a) * natural_factor(st, params, b);
+    memcpy(st->p, params, n * sizeof *st->p);
+    st->pb.bread = bread;
+    *status = bf_stage_pass(st, BF_PASS_SANDWICH);
+    st->pb.bread = NULL;
+    if (*status != BRDFFIT_OK) return 0;
+    for (a = 0; a < n; a++)
+        for (b = 0; b < n; b++)
+            st->acc[a * n + b] *= natural_factor(st, params, a) * natural_factor(st, params, b);
+    bf_optim_set_meat(st->opt, st->acc);
+    return 1;
+}
+
+/* The natural result, standard errors and covariance of the run ending
+ * at x: the optimizer's, in natural units by the delta method; all 0 when
+ * a cancel stopped them. A failure of the sandwich's pass is returned. */
+static brdffit_status collect(bf_stage *st, const double *x, double *params, double *se)
+{
+    size_t n = st->n, a, b;
+    brdffit_status status = BRDFFIT_OK;
+    int ok = 1;
     to_natural(st, x, params);
     st->cost = brdffit_optimizer_final_cost(st->opt);
-    if (brdffit_optimizer_std_errors(st->opt, se) != BRDFFIT_OK) memset(se, 0, st->n * sizeof *se);
-    for (e = 0; e < st->n; e++)
-        if (st->logs[e]) se[e] *= params[e];
+    if (st->run->fit->sandwich) ok = prepare_sandwich(st, params, &status);
+    if (status != BRDFFIT_OK) return status;
+    ok = ok && brdffit_optimizer_std_errors(st->opt, se) == BRDFFIT_OK &&
+         brdffit_optimizer_covariance(st->opt, st->cov) == BRDFFIT_OK;
+    if (!ok) {
+        memset(se, 0, n * sizeof *se);
+        memset(st->cov, 0, n * n * sizeof *st->cov);
+        return BRDFFIT_OK;
+    }
+    /* symmetric to the bit (the pseudo-inverse's product of eigenvectors
+     * need not be) */
+    for (a = 0; a < n; a++) {
+        double fa = natural_factor(st, params, a);
+        se[a] *= fa;
+        st->cov[a * n + a] *= fa * fa;
+        for (b = 0; b < a; b++) {
+            double v = 0.5 * (st->cov[a * n + b] + st->cov[b * n + a]);
+            st->cov[a * n + b] = st->cov[b * n + a] = v * (fa * natural_factor(st, params, b));
+        }
+    }
+    return BRDFFIT_OK;
 }
 
 /* Parameters the fit holds stay at their start values whatever point the
@@ -298,13 +357,16 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     bf_optim_watch(st->opt, &fit->cancel);
     bf_count_rows(&st->pb, &rows, NULL);
     if (rows == 0) return no_rows(st);
+    if (st->cov == NULL) st->cov = bf_calloc(&fit->alloc, st->n * st->n, sizeof *st->cov);
+    if (st->cov == NULL) return bf_stage_fail(st, BRDFFIT_E_OUT_OF_MEMORY, "the covariance");
     status = configure(st, rows);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "configuring the optimizer");
     to_optimiser(st, start, st->x);
     hold_at_start(st);
     status = brdffit_optimizer_run(st->opt, st->x);
     if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "Levenberg-Marquardt");
-    collect(st, st->x, params, se);
+    status = collect(st, st->x, params, se);
+    if (status != BRDFFIT_OK) return bf_stage_fail(st, status, "the sandwich covariance");
     if (atomic_load(&fit->cancel)) st->run->cancelled = 1;
     return bf_trace_lm(&st->run->result->trace, &fit->alloc, st->kind, st->label, st->opt,
                        &st->traced);

@@ -39,6 +39,8 @@ typedef struct bf_stage {
     double *x;              /* n: optimiser-space point of the LM run */
     double *shown;          /* n: natural point shown to the user's callback */
     double *acc;            /* accumulator of any pass */
+    double *cov;            /* n * n: covariance of the last LM run's result (natural
+                             * units, as its standard errors); made by bf_stage_lm */
     double cost;            /* final cost of the last LM run */
     brdffit_fit_stage_kind kind; /* the label of its LM runs in the trace: */
     size_t label;           /* kind and index (brdffit_fit_stage) */
@@ -65,7 +67,9 @@ brdffit_status bf_stage_pass(bf_stage *st, bf_pass_kind kind);
 
 /* One LM run from natural `start` (clamped into the bounds): the natural
  * result into params and its standard errors into se (n each, the
- * caller's), the final cost into st->cost; st->opt is kept for the
+ * caller's), their covariance into st->cov (the fit's estimator,
+ * BRDFFIT_FIT_COVARIANCE; the sandwich's meat from one SANDWICH pass),
+ * the final cost into st->cost; st->opt is kept for the
  * history, and the run is recorded in the run's trace as a kept stage
  * labelled st->kind, st->label (its number in st->traced). */
 brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, double *se);

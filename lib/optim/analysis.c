@@ -9,6 +9,7 @@
 
 #include "core/linalg.h"
 #include "optim/optim_internal.h"
+#include "optim/sandwich.h"
 
 /* A parameter whose direction lies mostly in the dropped eigenspace (this
  * much of its unit vector or more) is not determined by the data. */
@@ -210,4 +211,24 @@ int bf_optim_prepare_sandwich(brdffit_optimizer *opt)
             for (k = 0; k < p; k++) w->meat[j * p + k] += r2 * row[j] * row[k];
     }
     return 1;
+}
+
+int bf_optim_bread(const brdffit_optimizer *opt, double *bread)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t a, b, p = opt->n_params, n;
+    if (!scaled_pinv(opt, &n)) return 0;
+    memset(bread, 0, p * p * sizeof *bread);
+    for (a = 0; a < n; a++)
+        for (b = 0; b < n; b++)
+            bread[w->free_idx[a] * p + w->free_idx[b]] =
+                w->scale[a] * w->m[a * n + b] * w->scale[b];
+    return 1;
+}
+
+void bf_optim_set_meat(brdffit_optimizer *opt, const double *meat)
+{
+    memcpy(opt->w.meat, meat, opt->n_params * opt->n_params * sizeof *meat);
+    opt->res.want_sandwich = 1;
+    opt->res.sandwich = 1;
 }

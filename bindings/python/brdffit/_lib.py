@@ -167,6 +167,7 @@ _PROTOTYPES = {
     "brdffit_fit_param_count": (c_size_t, [_P]),
     "brdffit_fit_params": (c_int, [_P, _D]),
     "brdffit_fit_std_errors": (c_int, [_P, _D]),
+    "brdffit_fit_covariance": (c_int, [_P, _D]),
     "brdffit_fit_error": (c_int, [_P, c_int, c_size_t, _D]),
     "brdffit_fit_shader": (c_int, [_P, _D, _D, _D]),
     "brdffit_fit_stop_reason": (c_int, [_P]),

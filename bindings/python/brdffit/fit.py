@@ -14,12 +14,15 @@ from ._lib import ALL_CHANNELS, dptr, lib
 from .errors import BrdffitError, Status, check, new_error
 from .grid import Weighting
 
-__all__ = ["Fit", "IterationInfo", "Stage", "PIPELINES", "OBJECTIVES", "METRICS", "STOP_REASONS"]
+__all__ = ["Fit", "IterationInfo", "Stage", "PIPELINES", "OBJECTIVES", "ESTIMATORS", "METRICS",
+           "STOP_REASONS"]
 
 #: Pipeline names and their ``brdffit_pipeline`` values.
 PIPELINES = {"auto": 0, "joint": 1, "two-stage": 2}
 #: Objective names and their ``brdffit_objective`` values (what a fit minimises).
 OBJECTIVES = {"squares": 0, "log": 1, "cube-root": 2, "relative": 3}
+#: Covariance estimator names and their ``BRDFFIT_FIT_COVARIANCE`` values.
+ESTIMATORS = {"classic": 0, "sandwich": 1}
 #: Error metric names and their ``brdffit_fit_metric`` values.
 METRICS = {"rms": 0, "ngan": 1, "cost": 2}
 #: Stop reason names, indexed by ``brdffit_stop_reason`` value.
@@ -28,7 +31,7 @@ STOP_REASONS = ("none", "gradient", "step", "cost", "max-iterations", "max-evalu
 
 # brdffit_fit_setting values
 _PIPELINE, _CAP, _WEIGHTING, _CLEARCOAT, _THREADS, _MAX_ITERATIONS = 1, 2, 3, 4, 5, 6
-_OBJECTIVE, _PLAUSIBLE = 7, 8
+_OBJECTIVE, _PLAUSIBLE, _COVARIANCE = 7, 8, 9
 
 #: What an iteration callback receives: the 1-based iteration number of the
 #: current LM run, whether the step was accepted, the cost at the current
@@ -80,6 +83,10 @@ class Fit(Handle):
       built-in specular lobe's directional albedo <= 1, from a table) or 2
       (every term's directional albedo <= 1 by the integral: slower); True
       means 1, False 0;
+    - ``errors``: the estimator of :attr:`std_errors` and :meth:`covariance`,
+      ``"classic"`` (default: noise of one level after the weights) or
+      ``"sandwich"`` (HC3: any noise level per value, e.g. multiplicative
+      noise or weights that do not follow the noise; docs/fitting.md);
     - ``start``: start vector, or ``{name: value}`` on top of the model's
       defaults (see :meth:`set_start`);
     - ``fixed``: names (or indices) of parameters to hold at their start
@@ -125,13 +132,13 @@ class Fit(Handle):
 
     def configure(self, pipeline=None, cap=None, weighting=None, clearcoat=None, threads=None,
                   max_iterations=None, start=None, fixed=None, callback=None, fix=None,
-                  free=None, damping=None, objective=None, plausible=None):
+                  free=None, damping=None, objective=None, plausible=None, errors=None):
         """Set several options at once; None leaves an option unchanged
         (``start`` before ``fixed``, ``fix`` and ``free``)."""
         for name, value in (("pipeline", pipeline), ("cap", cap), ("weighting", weighting),
                             ("clearcoat", clearcoat), ("threads", threads),
                             ("max_iterations", max_iterations), ("objective", objective),
-                            ("plausible", plausible)):
+                            ("plausible", plausible), ("errors", errors)):
             if value is not None:
                 setattr(self, name, value)
         if start is not None:
@@ -293,6 +300,17 @@ class Fit(Handle):
         if isinstance(value, bool):
             value = 1 if value else 0
         self._set(_PLAUSIBLE, value)
+
+    @property
+    def errors(self):
+        """The covariance estimator, ``"classic"`` or ``"sandwich"``
+        (``BRDFFIT_FIT_COVARIANCE``)."""
+        value = int(self._get(_COVARIANCE))
+        return {v: k for k, v in ESTIMATORS.items()}[value]
+
+    @errors.setter
+    def errors(self, value):
+        self._set(_COVARIANCE, _lookup(ESTIMATORS, value, "errors"))
 
     @property
     def n_channels(self):
@@ -495,6 +513,17 @@ class Fit(Handle):
     def std_errors(self):
         """Standard errors of the fitted parameters (0 for fixed or bound ones)."""
         return self._vector(lib.brdffit_fit_std_errors)
+
+    def covariance(self) -> np.ndarray:
+        """The ``(n, n)`` covariance of the fitted parameters
+        (``brdffit_fit_covariance``): its diagonal is :attr:`std_errors`
+        squared; rows and columns of fixed or bound parameters 0, an
+        undetermined parameter ``inf`` on the diagonal and 0 beside it."""
+        n = self.param_count
+        out = np.empty((n, n))
+        with self._idle() as h:
+            self._check(lib.brdffit_fit_covariance(h, dptr(out)))
+        return out
 
     def std_errors_by_name(self):
         """The standard errors as ``{name: float or per-channel array}``."""
