@@ -94,15 +94,26 @@ static brdffit_stop_reason check_before(const lm_run *run)
     return BRDFFIT_STOP_NONE;
 }
 
-/* Every parameter's step is small against its own magnitude, so a large
- * parameter does not hide the others' progress. */
+/* Step test 0: every parameter's step is small against its own
+ * magnitude, so a large parameter does not hide the others' progress.
+ * Step test 1 (MINPACK's xtol): ||D^1/2 step|| <= xtol ||D^1/2 x||, the
+ * step and the point measured in the scaling D. */
 static int step_small(const brdffit_optimizer *opt)
 {
+    const bf_optim_work *w = &opt->w;
     size_t j, p = opt->n_params;
-    double xtol = opt->settings.xtol;
-    for (j = 0; j < p; j++)
-        if (!(fabs(opt->w.step[j]) <= xtol * (fabs(opt->w.x[j]) + xtol))) return 0;
-    return 1;
+    double xtol = opt->settings.xtol, ds = 0.0, dx = 0.0;
+    if (opt->settings.step_test == 0) {
+        for (j = 0; j < p; j++)
+            if (!(fabs(w->step[j]) <= xtol * (fabs(w->x[j]) + xtol))) return 0;
+        return 1;
+    }
+    for (j = 0; j < p; j++) {
+        double s = sqrt(w->d[j]);
+        ds = hypot(ds, s * w->step[j]);
+        dx = hypot(dx, s * w->x[j]);
+    }
+    return ds <= xtol * dx;
 }
 
 /* The accepted step lowered the cost by at most ftol * cost, and the

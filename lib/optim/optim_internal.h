@@ -27,6 +27,8 @@ typedef struct bf_optim_settings {
     size_t max_iterations, max_evaluations;
     int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
     int sandwich;  /* covariance: 1 sandwich, 0 classic */
+    int scale_memory; /* 1: D keeps the largest diag(J^T J) of the run, 0: the current one */
+    int step_test;    /* 0: per parameter, 1: ||D^1/2 step|| against ||D^1/2 x|| */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {
@@ -134,7 +136,9 @@ brdffit_status bf_optim_eval(brdffit_optimizer *opt, const double *x, int derivs
                              double *jtj, double *g, char *what, size_t what_size);
 
 /* step.c: the diagonal scaling D for the current J^T J (Marquardt) or the
- * constant d0 (Levenberg, set_d0 at the start of a run). */
+ * constant d0 (Levenberg, set_d0 at the start of an attempt). With the
+ * scale memory, Marquardt's entries keep the largest value they had since
+ * the start of the attempt (set_d0). */
 void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
 
 /* step.c: the step for damping lambda, shortened by factor t, with

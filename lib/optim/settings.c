@@ -10,8 +10,8 @@
  * more in double precision. */
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300,
-                                                   1.0,   5000,  12000, 1,     0};
+static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
+                                                   5000,  12000, 1,     0,     0,     0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
@@ -76,6 +76,12 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_COVARIANCE:
         return set_switch(opt, &s->sandwich, value,
                           "covariance must be 0 (classic) or 1 (sandwich)");
+    case BRDFFIT_OPT_SCALE_MEMORY:
+        return set_switch(opt, &s->scale_memory, value,
+                          "scale memory must be 0 (current point) or 1 (running maximum)");
+    case BRDFFIT_OPT_STEP_TEST:
+        return set_switch(opt, &s->step_test, value,
+                          "step test must be 0 (per parameter) or 1 (scaled norm)");
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }
@@ -98,6 +104,8 @@ brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim
     case BRDFFIT_OPT_STEP_BOUND: *value = s->step_bound; return BRDFFIT_OK;
     case BRDFFIT_OPT_RESTART_BOUND: *value = s->restart_bound; return BRDFFIT_OK;
     case BRDFFIT_OPT_COVARIANCE: *value = s->sandwich ? 1.0 : 0.0; return BRDFFIT_OK;
+    case BRDFFIT_OPT_SCALE_MEMORY: *value = s->scale_memory ? 1.0 : 0.0; return BRDFFIT_OK;
+    case BRDFFIT_OPT_STEP_TEST: *value = s->step_test ? 1.0 : 0.0; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }

@@ -35,8 +35,14 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
         for (j = 0; j < p; j++) w->d[j] = dmax;
         return;
     }
+    if (opt->settings.scale_memory && !set_d0)
+        for (j = 0; j < p; j++)
+            if (!w->fixed[j] && w->d[j] > dmax) dmax = w->d[j];
     floor_value = fmax(opt->settings.diag_floor * dmax, BF_SCALE_ABS_FLOOR);
-    for (j = 0; j < p; j++) w->d[j] = fmax(w->jtj[j * p + j], floor_value);
+    for (j = 0; j < p; j++) {
+        double dj = fmax(w->jtj[j * p + j], floor_value);
+        w->d[j] = opt->settings.scale_memory && !set_d0 ? fmax(w->d[j], dj) : dj;
+    }
 }
 
 /* Held at the start of a step: fixed, or on a bound with the descent
