@@ -130,8 +130,7 @@ static void summarise(summary *sm, const fit_case *fc, bd_dataset data)
 }
 
 static void run_one(bh_output *out, const brdffit_grid *grid, const brdffit_model *model,
-                    bd_dataset data, brdffit_pipeline pipe, brdffit_objective obj,
-                    summary *sm)
+                    bd_dataset data, brdffit_pipeline pipe, brdffit_objective obj, summary *sm)
 {
     fit_case fc;
     size_t reps = bh_repeats(out->opt, FIT_REPEATS);
@@ -154,8 +153,8 @@ static void run_one(bh_output *out, const brdffit_grid *grid, const brdffit_mode
         fc.job.start = fc.start;
     }
     if (bh_measure(run_fit, &fc, out->opt->smoke ? 0 : 1, reps, &fc.st) != 0) {
-        bh_fail(out, "%s/%s/%s: %s: %s", brdffit_model_name(model), bd_name(data),
-                pipe_label(&fc), brdffit_status_name(fc.res.status), fc.res.message);
+        bh_fail(out, "%s/%s/%s: %s: %s", brdffit_model_name(model), bd_name(data), pipe_label(&fc),
+                brdffit_status_name(fc.res.status), fc.res.message);
         return;
     }
     record(out, &fc, data);
@@ -217,8 +216,7 @@ int main(int argc, char **argv)
         for (m = 0; m < N_MODELS; m++) {
             brdffit_model *model = NULL;
             if (brdffit_model_create(&model, models[m], NULL, NULL) != BRDFFIT_OK) continue;
-            for (d = 0; d < 2; d++)
-            {
+            for (d = 0; d < 2; d++) {
                 for (p = 0; p < N_PIPELINES; p++)
                     run_one(&out, grids[d], model, (bd_dataset)d, pipelines[p],
                             BRDFFIT_OBJECTIVE_SQUARES, &sm);
