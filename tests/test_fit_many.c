@@ -138,6 +138,14 @@ static void joint_options(brdffit_fit *fit)
     assert_int_equal(brdffit_fit_set_start(fit, start), 0);
 }
 
+/* Auto with plausibility off and the sandwich errors: settings that change
+ * the result of the bright items below. */
+static void auto_unbounded_options(brdffit_fit *fit)
+{
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, 0), 0);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_COVARIANCE, 1), 0);
+}
+
 /* Item i fitted alone: a grid of its own, a fit with one thread. */
 static void single_fit(const brdffit_model *m, const geometry *g, const double *values,
                        const unsigned char *missing, options_fn options, results *r, size_t i)
@@ -268,6 +276,33 @@ static void test_joint_options_equal_single_fits(void **state)
 {
     (void)state;
     check_against_single(joint_options, 9, NULL, NULL);
+}
+
+/* Items 8 times too bright (diffuse albedos above 1): the batch honours
+ * the prototype's plausibility and covariance settings as single fits do,
+ * and the settings matter here (plausibility on bounds cd <= 1). */
+static void test_auto_settings_equal_single_fits(void **state)
+{
+    geometry g;
+    brdffit_model *m = make_model();
+    results *on = new_results(), *off = new_results();
+    double *values;
+    size_t i, n = 6, differ = 0;
+    (void)state;
+    make_geometry(&g, 7);
+    values = make_values(m, &g, n, 0.02);
+    for (i = 0; i < n * NS * NC; i++) values[i] *= 8.0;
+    for (i = 0; i < n; i++) {
+        single_fit(m, &g, values, NULL, auto_options, on, i);
+        single_fit(m, &g, values, NULL, auto_unbounded_options, off, i);
+        assert_int_equal(on->status[i], BRDFFIT_OK);
+        assert_int_equal(off->status[i], BRDFFIT_OK);
+        differ += memcmp(on->params + i * NV, off->params + i * NV, NV * sizeof(double)) != 0;
+    }
+    assert_true(differ > 0);
+    brdffit_model_destroy(m);
+    free(on), free(off);
+    check_against_single(auto_unbounded_options, n, NULL, values); /* frees values */
 }
 
 /* Missing values, a NaN, an item with nothing present, an item too large
@@ -598,6 +633,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_auto_equals_single_fits),
         cmocka_unit_test(test_joint_options_equal_single_fits),
+        cmocka_unit_test(test_auto_settings_equal_single_fits),
         cmocka_unit_test(test_bad_items),
         cmocka_unit_test(test_bad_item_statuses),
         cmocka_unit_test(test_regular_grid),

@@ -57,6 +57,7 @@ static void copy_options(brdffit_fit *dst, const brdffit_fit *src)
     dst->threads = 1;
     dst->max_iterations = src->max_iterations;
     dst->objective = src->objective;
+    dst->plausible = src->plausible;
     dst->sandwich = src->sandwich;
     dst->damping = src->damping;
     memcpy(dst->start, src->start, src->n_vec * sizeof *src->start);
