@@ -8,7 +8,7 @@
 #include "optim_problems.h"
 #include "test_support.h"
 
-enum { N_POLICIES = 3 };
+enum { N_POLICIES = 3, MAX_CALLBACKS = 1024 };
 
 static const brdffit_damping *policy(int k)
 {
@@ -23,21 +23,67 @@ typedef struct run_out {
     double x[OPTIM_MAX_PARAMS];
     double cost, initial_cost;
     size_t iterations, evaluations, accepted, callback_calls;
-    size_t calls, derivative_calls; /* normal form only */
+    size_t calls, derivative_calls; /* problem callback calls, both forms */
+    int normal, sandwich;
     double se[OPTIM_MAX_PARAMS];
+    double seen_cost[MAX_CALLBACKS]; /* the cost each iteration callback saw */
 } run_out;
 
 typedef struct run_cfg {
     int policy, normal, marquardt;
     size_t max_iterations; /* 0: default */
+    double lambda0;        /* 0: the policy's own start lambda */
+    int sandwich;          /* BRDFFIT_OPT_COVARIANCE */
 } run_cfg;
 
 static int count_accepted(const brdffit_iteration *info, void *user)
 {
     run_out *out = user;
+    if (out->callback_calls < MAX_CALLBACKS) out->seen_cost[out->callback_calls] = info->cost;
     out->callback_calls++;
     if (info->accepted) out->accepted++;
     return 0;
+}
+
+/* The residual form's problem, counting its calls. */
+typedef struct counted_residuals {
+    brdffit_residual_fn fn;
+    void *user;
+    size_t calls, derivative_calls;
+} counted_residuals;
+
+static brdffit_status counted_fn(const double *x, double *r, double *jac, void *user)
+{
+    counted_residuals *c = user;
+    c->calls++;
+    if (jac != NULL) c->derivative_calls++;
+    return c->fn(x, r, jac, c->user);
+}
+
+/* A built-in policy with another start lambda: the base policy's
+ * callbacks, then lambda0 in place of its start. */
+typedef struct started_policy {
+    const brdffit_damping *base;
+    double lambda0;
+} started_policy;
+
+static void started_init(void *state, double *lambda, void *user)
+{
+    const started_policy *s = user;
+    s->base->init(state, lambda, s->base->user);
+    *lambda = s->lambda0;
+}
+
+static void started_accept(void *state, double rho, double *lambda, void *user)
+{
+    const started_policy *s = user;
+    s->base->accept(state, rho, lambda, s->base->user);
+}
+
+static void started_reject(void *state, double rho, double *lambda, void *user)
+{
+    const started_policy *s = user;
+    s->base->reject(state, rho, lambda, s->base->user);
 }
 
 static int is_convergence(brdffit_stop_reason s)
@@ -62,23 +108,54 @@ static void check_run_invariants(brdffit_optimizer *opt, const optim_problem *pb
         assert_true(hist_cost[i] <= hist_cost[i - 1]);
         assert_true(hist_lambda[i] > 0.0 && isfinite(hist_lambda[i]));
     }
-    assert_int_equal(out->callback_calls, out->iterations);
+    /* The iteration callback sees every iteration of both attempts of a
+     * restarted run, the iteration count only those of the attempt
+     * returned (docs/optimizer.md): its history is then the first or the
+     * last of the costs the callback saw. */
+    assert_true(out->callback_calls >= out->iterations);
+    if (out->callback_calls > out->iterations) {
+        size_t skip = out->callback_calls - out->iterations, k;
+        int first = 1, second = 1;
+        assert_true(out->callback_calls <= MAX_CALLBACKS);
+        for (k = 0; k < out->iterations; k++) {
+            if (!(out->seen_cost[k] == hist_cost[k + 1])) first = 0;
+            if (!(out->seen_cost[skip + k] == hist_cost[k + 1])) second = 0;
+        }
+        assert_true(first || second);
+    }
+    /* Every call of the problem callback is an evaluation, and only those:
+     * the start (twice after a restart), the trials, the derivatives at an
+     * accepted point (residual form), the re-evaluation of the first
+     * attempt's point when it wins, the sandwich's pass. */
+    assert_int_equal(out->calls, out->evaluations);
+    if (out->normal) { /* the sums with every evaluation (docs/optimizer.md) */
+        assert_int_equal(out->derivative_calls, out->evaluations);
+        if (out->callback_calls == out->iterations)
+            assert_true(out->evaluations <= 1 + out->iterations);
+        else
+            assert_true(out->evaluations <= 3 + out->callback_calls);
+    } else {
+        size_t restarts = out->callback_calls > out->iterations;
+        assert_true(out->derivative_calls <= 1 + restarts * 2 + out->accepted + out->sandwich);
+        assert_true(out->evaluations <=
+                    1 + restarts * 2 + out->callback_calls + out->accepted + out->sandwich);
+    }
     assert_int_equal(pb->fn(out->x, r, NULL, user), BRDFFIT_OK);
     for (i = 0; i < pb->n_rows; i++) cost += r[i] * r[i];
     assert_close(cost, out->cost, 1e-12);
-    if (out->calls > 0) { /* normal form: the sums with every evaluation (docs/optimizer.md) */
-        assert_int_equal(out->derivative_calls, out->evaluations);
-        assert_int_equal(out->calls, out->evaluations);
-        assert_true(out->evaluations <= 1 + out->iterations);
-    }
 }
 
 static void run_problem(const optim_problem *pb, void *user, const run_cfg *cfg, run_out *out)
 {
     brdffit_optimizer *opt = NULL;
     optim_normal_adapter ad;
+    counted_residuals cr = {NULL, NULL, 0, 0};
+    started_policy sp;
+    brdffit_damping started = BRDFFIT_DAMPING_INIT;
     size_t max_it = cfg->max_iterations ? cfg->max_iterations : 200;
     memset(out, 0, sizeof *out);
+    out->normal = cfg->normal;
+    out->sandwich = cfg->sandwich && !cfg->normal;
     assert_int_equal(brdffit_optimizer_create(&opt, pb->n_params, NULL, NULL), BRDFFIT_OK);
     if (cfg->normal) {
         optim_normal_adapter_init(&ad, pb->fn, user, pb->n_rows, pb->n_params);
@@ -86,10 +163,25 @@ static void run_problem(const optim_problem *pb, void *user, const run_cfg *cfg,
             brdffit_optimizer_set_normal(opt, pb->n_rows, optim_normal_adapter_fn, &ad),
             BRDFFIT_OK);
     } else {
-        assert_int_equal(brdffit_optimizer_set_residuals(opt, pb->n_rows, pb->fn, user),
+        cr.fn = pb->fn;
+        cr.user = user;
+        assert_int_equal(brdffit_optimizer_set_residuals(opt, pb->n_rows, counted_fn, &cr),
                          BRDFFIT_OK);
     }
-    assert_int_equal(brdffit_optimizer_set_damping(opt, policy(cfg->policy)), BRDFFIT_OK);
+    if (cfg->lambda0 > 0.0) {
+        sp.base = policy(cfg->policy);
+        sp.lambda0 = cfg->lambda0;
+        started.name = sp.base->name;
+        started.state_size = sp.base->state_size;
+        started.init = started_init;
+        started.accept = started_accept;
+        started.reject = started_reject;
+        started.user = &sp;
+        assert_int_equal(brdffit_optimizer_set_damping(opt, &started), BRDFFIT_OK);
+    } else {
+        assert_int_equal(brdffit_optimizer_set_damping(opt, policy(cfg->policy)), BRDFFIT_OK);
+    }
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_COVARIANCE, out->sandwich), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALING, cfg->marquardt), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, (double)max_it),
                      BRDFFIT_OK);
@@ -109,6 +201,9 @@ static void run_problem(const optim_problem *pb, void *user, const run_cfg *cfg,
     if (cfg->normal) {
         out->calls = ad.calls;
         out->derivative_calls = ad.derivative_calls;
+    } else {
+        out->calls = cr.calls;
+        out->derivative_calls = cr.derivative_calls;
     }
     check_run_invariants(opt, pb, user, out);
     brdffit_optimizer_destroy(opt);
@@ -358,7 +453,7 @@ static void test_fits_agree_across_combinations(void **state)
 {
     optim_fit_data d;
     optim_problem pb = {"rational", 4, 0, {1.0, 1.0, 0.1, 0.1}, optim_rational_fit};
-    run_cfg cfg = {2, 0, 1, 1000};
+    run_cfg cfg = {2, 0, 1, 1000, 0.0, 0};
     run_out ref, out;
     size_t j;
     (void)state;
@@ -376,6 +471,44 @@ static void test_fits_agree_across_combinations(void **state)
     }
 }
 
+/* The evaluation count is the number of problem callback calls, in both
+ * forms, for every policy, with start lambdas that make the MGH problems
+ * reject steps and stall into the restart (Box 3-D from lambda 3e-2 in
+ * the normal form: 25 iterations over two attempts, 9 in the one
+ * returned). check_run_invariants() compares the counts; this test makes
+ * sure the set really exercises rejections, restarts and the sandwich. */
+static void test_evaluation_counts(void **state)
+{
+    static const double lambda0[] = {3e-2, 1e2};
+    size_t n_pb, k, l, rejected = 0, restarted[2] = {0, 0}, sandwiches = 0;
+    const optim_problem *pb = optim_mgh_problems(&n_pb);
+    run_cfg cfg;
+    run_out out;
+    (void)state;
+    memset(&cfg, 0, sizeof cfg);
+    for (k = 0; k < n_pb; k++) {
+        for (l = 0; l < sizeof lambda0 / sizeof lambda0[0]; l++) {
+            cfg.lambda0 = lambda0[l];
+            for (cfg.policy = 0; cfg.policy < N_POLICIES; cfg.policy++) {
+                for (cfg.normal = 0; cfg.normal < 2; cfg.normal++) {
+                    for (cfg.marquardt = 0; cfg.marquardt < 2; cfg.marquardt++) {
+                        for (cfg.sandwich = 0; cfg.sandwich <= !cfg.normal; cfg.sandwich++) {
+                            run_problem(&pb[k], NULL, &cfg, &out);
+                            assert_true(out.calls > 0);
+                            if (out.accepted < out.callback_calls) rejected++;
+                            if (out.callback_calls > out.iterations) restarted[cfg.normal]++;
+                            sandwiches += (size_t)out.sandwich;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_true(rejected > 0);
+    assert_true(restarted[0] > 0 && restarted[1] > 0);
+    assert_true(sandwiches > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -389,6 +522,7 @@ int main(void)
         cmocka_unit_test(test_exp_fit),
         cmocka_unit_test(test_rational_fit),
         cmocka_unit_test(test_fits_agree_across_combinations),
+        cmocka_unit_test(test_evaluation_counts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

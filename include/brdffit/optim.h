@@ -354,10 +354,20 @@ BRDFFIT_API double brdffit_optimizer_initial_cost(const brdffit_optimizer *opt);
 /** @brief Cost at the returned point of the last run; NaN before a run. */
 BRDFFIT_API double brdffit_optimizer_final_cost(const brdffit_optimizer *opt);
 
-/** @brief Iterations (accepted and rejected steps) of the last run. */
+/** @brief Iterations (accepted and rejected steps) of the last run; after a
+ *         restart (::BRDFFIT_OPT_RESTART_BOUND) those of the attempt
+ *         returned only, so the iteration callback, called after every
+ *         iteration of both attempts, may have been called more often. */
 BRDFFIT_API size_t brdffit_optimizer_iterations(const brdffit_optimizer *opt);
 
-/** @brief Problem evaluations of the last run (the start point included). */
+/** @brief Problem evaluations of the last run: exactly the number of calls
+ *         of the problem callback during brdffit_optimizer_run(), in either
+ *         form. They are the start point, each trial point, the
+ *         derivatives at each accepted point (residual form), after a
+ *         restart (::BRDFFIT_OPT_RESTART_BOUND) the second start and, when
+ *         the first attempt is returned, one more at its point, and the
+ *         sandwich covariance's evaluation (::BRDFFIT_OPT_COVARIANCE 1,
+ *         residual form); both attempts of a restarted run count. */
 BRDFFIT_API size_t brdffit_optimizer_evaluations(const brdffit_optimizer *opt);
 
 /** @brief The last iteration that lowered the cost; 0 if none did. */
