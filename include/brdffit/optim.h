@@ -164,7 +164,7 @@ typedef enum brdffit_stop_reason {
  */
 typedef struct brdffit_iteration {
     size_t struct_size;  /**< sizeof the struct as the library knows it. */
-    size_t iteration;    /**< 1-based iteration number. */
+    size_t iteration;    /**< 1-based iteration number, counted across a restart (::BRDFFIT_OPT_RESTART_BOUND): it can exceed brdffit_optimizer_iterations(), which counts the returned attempt only. */
     int accepted;        /**< 1 if the step was accepted. */
     double cost;         /**< Cost at the current (accepted) point. */
     double lambda;       /**< Damping after this iteration. */
