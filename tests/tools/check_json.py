@@ -20,6 +20,13 @@
         the first line's "exports" (the last key) lists exactly those
         exports, in order (REFIT true or false), each well formed; one that
         is not a refit carries the fit's own error figures.
+    check_json.py correlation OUT [HELD...]
+        the first line's "correlation" names every entry of the parameter
+        vector once (NAME, or NAME_C per channel) and is symmetric, within
+        [-1, 1], 1 on the diagonal for every parameter with a positive
+        finite standard error and null exactly in the rows and columns of
+        the others; the HELD parameters' entries are all null, and some
+        correlation between two free parameters is not 0.
 """
 import json
 import math
@@ -183,6 +190,54 @@ def exports(path, specs):
     print("ok: exports %s" % " ".join(got))
 
 
+def correlation(path, held):
+    obj = read_lines(path)[0]
+    corr, se = obj.get("correlation"), obj["std_errors"]
+    if obj.get("std_errors_estimator") not in ("classic", "sandwich"):
+        fail("std_errors_estimator is %r" % obj.get("std_errors_estimator"))
+    if not isinstance(corr, dict) or list(corr.keys()) != ["names", "matrix"]:
+        fail("correlation is not {names, matrix}: %s" % json.dumps(corr))
+    names, m = corr["names"], corr["matrix"]
+    want = sorted(k if not isinstance(v, list) else "%s_%d" % (k, c)
+                  for k, v in se.items() for c in range(len(v) if isinstance(v, list) else 1))
+    if sorted(names) != want:
+        fail("correlation names %s, expected those of %s" % (names, want))
+    p = len(names)
+    if not isinstance(m, list) or len(m) != p or any(not isinstance(row, list) or len(row) != p
+                                                     for row in m):
+        fail("correlation matrix is not %d x %d" % (p, p))
+
+    def std_error(name):
+        base, _, c = name.rpartition("_")
+        if base in se and isinstance(se[base], list):
+            return se[base][int(c)]
+        return se[name]
+
+    usable = [is_number(std_error(n)) and std_error(n) > 0 for n in names]
+    off = 0
+    for i in range(p):
+        for j in range(p):
+            x = m[i][j]
+            if not (usable[i] and usable[j]):
+                if x is not None:
+                    fail("correlation[%s][%s] = %r, expected null" % (names[i], names[j], x))
+                continue
+            if not is_number(x) or abs(x) > 1 or x != m[j][i]:
+                fail("correlation[%s][%s] = %r, [%s][%s] = %r" % (names[i], names[j], x,
+                                                                 names[j], names[i], m[j][i]))
+            if i == j and x != 1:
+                fail("correlation[%s][%s] = %r, expected 1" % (names[i], names[i], x))
+            if i != j and x != 0:
+                off += 1
+    for i, n in enumerate(names):
+        if n.rpartition("_")[0] in held or n in held:
+            if usable[i]:
+                fail("held parameter %s has a standard error" % n)
+    if sum(usable) < 2 or off == 0:
+        fail("no correlation between free parameters: %s" % json.dumps(corr))
+    print("ok: correlation of %d parameters, %d free" % (p, sum(usable)))
+
+
 def main(argv):
     if len(argv) >= 3 and argv[1] == "schema":
         schema(argv[2], argv[3:])
@@ -194,9 +249,12 @@ def main(argv):
         stages(argv[2], argv[3], argv[4:])
     elif len(argv) >= 3 and argv[1] == "exports":
         exports(argv[2], argv[3:])
+    elif len(argv) >= 3 and argv[1] == "correlation":
+        correlation(argv[2], argv[3:])
     else:
         fail("usage: check_json.py schema OUT [FILE...] | near OUT REL NAME=V... | "
-             "stages OUT CONVERGED KIND[:INDEX]... | exports OUT FORMAT:MODEL:REFIT...")
+             "stages OUT CONVERGED KIND[:INDEX]... | exports OUT FORMAT:MODEL:REFIT... | "
+             "correlation OUT [HELD...]")
 
 
 if __name__ == "__main__":

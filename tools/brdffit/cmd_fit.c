@@ -37,6 +37,9 @@ static const char fit_help[] =
     "  --damping POLICY      Levenberg-Marquardt damping: nielsen (default),\n"
     "                        marquardt or thesis\n"
     "  --max-iterations N    iteration limit of each Levenberg-Marquardt run\n"
+    "  --errors E            standard errors: classic (default: one noise level for\n"
+    "                        every weighted residual) or sandwich (HC3: any noise\n"
+    "                        per value, e.g. multiplicative; docs/fitting.md)\n"
     "  --threads N           files fitted in parallel (one file: threads of the fit)\n"
     "  --json                one JSON object per file on stdout, one per line\n"
     "  --csv OUT             append one row per fitted file to OUT (header when new)\n"
@@ -70,6 +73,7 @@ typedef struct fit_opts {
     double cap, clearcoat, gain, gamma;
     unsigned weighting, mtlx_shaders;
     size_t threads, max_iterations, plausible;
+    int covariance; /* BRDFFIT_FIT_COVARIANCE */
     int json, strict;
 } fit_opts;
 
@@ -104,6 +108,7 @@ static int configure(brdffit_fit *fit, const fit_run *run, fit_result *r)
     double threads = run->n_files == 1 ? (double)(o->threads > 64 ? 64 : o->threads) : 1.0;
     if ((st = brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, (double)o->pipeline)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)o->objective)) != BRDFFIT_OK ||
+        (st = brdffit_fit_set(fit, BRDFFIT_FIT_COVARIANCE, (double)o->covariance)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_PLAUSIBLE, (double)o->plausible)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_CAP, o->cap)) != BRDFFIT_OK ||
         (st = brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, (double)o->weighting)) != BRDFFIT_OK ||
@@ -143,6 +148,22 @@ static void collect_settings(const brdffit_fit *fit, fit_result *r)
     if (brdffit_fit_get(fit, BRDFFIT_FIT_MAX_ITERATIONS, &v) == BRDFFIT_OK)
         r->max_iterations = (size_t)v;
     if (brdffit_fit_get(fit, BRDFFIT_FIT_PLAUSIBLE, &v) == BRDFFIT_OK) r->plausible = (int)v;
+    if (brdffit_fit_get(fit, BRDFFIT_FIT_COVARIANCE, &v) == BRDFFIT_OK) r->covariance = (int)v;
+}
+
+/* The covariance for the JSON record's correlation (only --json shows it);
+ * left NULL when the fit keeps none (BRDFFIT_E_TOO_LARGE). */
+static int collect_covariance(const brdffit_fit *fit, fit_result *r)
+{
+    brdffit_status st;
+    if (r->n_params > BRDFFIT_FIT_MAX_PARAMS) return 0;
+    r->cov = malloc(r->n_params * r->n_params * sizeof(double));
+    if (r->cov == NULL) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
+    st = brdffit_fit_covariance(fit, r->cov);
+    if (st == BRDFFIT_OK) return 0;
+    free(r->cov);
+    r->cov = NULL;
+    return st == BRDFFIT_E_TOO_LARGE ? 0 : fail(r, st, brdffit_fit_message(fit));
 }
 
 static int collect(brdffit_fit *fit, const fit_run *run, fit_result *r)
@@ -164,6 +185,7 @@ static int collect(brdffit_fit *fit, const fit_run *run, fit_result *r)
     r->iterations = brdffit_fit_iterations(fit);
     r->stop = brdffit_fit_stop_reason(fit);
     if (fit_history_collect(fit, r) != 0) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
+    if (run->opts->json && collect_covariance(fit, r) != 0) return -1;
     r->held = fit_holds_held(run->holds, run->model);
     if (r->held == NULL) return fail(r, BRDFFIT_E_OUT_OF_MEMORY, "out of memory");
     collect_warnings(fit, r);
@@ -502,6 +524,9 @@ static int option_value(fit_opts *o, const char *name, const char *value)
         else
             return cli_usage_error("fit", "--mtlx-shader is open_pbr_surface, standard_surface "
                                           "or both");
+    } else if (strcmp(name, "errors") == 0) {
+        if (!cli_parse_covariance(value, &o->covariance))
+            return cli_usage_error("fit", "--errors is classic or sandwich, not \"%s\"", value);
     } else if (strcmp(name, "objective") == 0) {
         if (!cli_parse_objective(value, &o->objective))
             return cli_usage_error("fit", "--objective is squares, log, cube-root or relative");
@@ -561,6 +586,7 @@ static int parse_options(fit_opts *o, int argc, char **argv)
                                          {"strict", 0},    {"gltf", 1},      {"mtlx", 1},
                                          {"objective", 1}, {"report", 1},  {"fix", 1},
                                          {"free", 1},      {"damping", 1}, {"mtlx-shader", 1},
+                                         {"errors", 1},
                                          {NULL, 0}};
     cli_args a;
     const char *name, *value;

@@ -9,6 +9,8 @@ void fit_result_free(fit_result *r)
 {
     free(r->params);
     free(r->se);
+    free(r->cov);
+    r->cov = NULL;
     free(r->shader_cd);
     free(r->shader_cs);
     free(r->stages);
@@ -17,6 +19,26 @@ void fit_result_free(fit_result *r)
     r->held = NULL;
     r->params = r->se = r->shader_cd = r->shader_cs = r->history = r->lambdas = NULL;
     r->stages = NULL;
+}
+
+static const char *const covariance_names[] = {"classic", "sandwich"};
+
+const char *cli_covariance_name(int covariance)
+{
+    return covariance >= 0 && (size_t)covariance < sizeof covariance_names / sizeof *covariance_names
+               ? covariance_names[covariance]
+               : "unknown";
+}
+
+int cli_parse_covariance(const char *name, int *out)
+{
+    size_t k;
+    for (k = 0; k < sizeof covariance_names / sizeof *covariance_names; k++)
+        if (strcmp(name, covariance_names[k]) == 0) {
+            *out = (int)k;
+            return 1;
+        }
+    return 0;
 }
 
 const char *cli_stop_token(brdffit_stop_reason reason)
@@ -143,6 +165,8 @@ void fit_summary(cli_buf *b, const fit_result *r)
                    cli_pipeline_name(r->pipeline));
     if (r->objective != BRDFFIT_OBJECTIVE_SQUARES)
         cli_buf_printf(b, ", objective %s", cli_objective_name(r->objective));
+    if (r->covariance != 0)
+        cli_buf_printf(b, ", %s errors", cli_covariance_name(r->covariance));
     cli_buf_puts(b, "\n");
     summary_settings(b, r);
     for (k = 0; k < n_decl; k++) summary_param(b, r, k);
@@ -208,6 +232,71 @@ static void json_params(cli_buf *b, const fit_result *r, const double *v)
         cli_buf_puts(b, "]");
     }
     cli_buf_puts(b, "}");
+}
+
+/* The name of every entry of the parameter vector, in its order: NAME for
+ * a shared parameter, NAME_C for channel C's (as the CSV columns). */
+static void json_vector_names(cli_buf *b, const fit_result *r)
+{
+    size_t i, k, c, n_decl = brdffit_model_param_count(r->model);
+    cli_buf_puts(b, "[");
+    for (i = 0; i < r->n_params; i++) {
+        int found = 0;
+        if (i) cli_buf_puts(b, ", ");
+        for (k = 0; k < n_decl && !found; k++)
+            for (c = 0; c < param_width(r, k) && !found; c++) {
+                const char *name = brdffit_model_param(r->model, k)->name;
+                char label[96];
+                if (brdffit_model_vector_index(r->model, k, c, r->n_channels) != i) continue;
+                found = 1;
+                if (!(brdffit_model_param(r->model, k)->flags & BRDFFIT_PARAM_PER_CHANNEL))
+                    cli_format(label, sizeof label, "%s", name);
+                else
+                    cli_format(label, sizeof label, "%s_%zu", name, c);
+                cli_buf_json_string(b, label);
+            }
+        if (!found) cli_buf_puts(b, "null");
+    }
+    cli_buf_puts(b, "]");
+}
+
+/* A variance the correlation can divide by: neither 0 (held, at a bound)
+ * nor HUGE_VAL (not determined). */
+static int usable_variance(double v)
+{
+    return v > 0.0 && isfinite(v);
+}
+
+/* "correlation": {"names": [...], "matrix": [[...], ...]} of the
+ * covariance, null entries for parameters without a usable variance; null
+ * when the fit kept no covariance. */
+static void json_correlation(cli_buf *b, const fit_result *r)
+{
+    size_t i, j, p = r->n_params;
+    cli_buf_puts(b, ", \"correlation\": ");
+    if (r->cov == NULL) {
+        cli_buf_puts(b, "null");
+        return;
+    }
+    cli_buf_puts(b, "{\"names\": ");
+    json_vector_names(b, r);
+    cli_buf_puts(b, ", \"matrix\": [");
+    for (i = 0; i < p; i++) {
+        double vi = r->cov[i * p + i];
+        cli_buf_puts(b, i ? ", [" : "[");
+        for (j = 0; j < p; j++) {
+            double vj = r->cov[j * p + j], x;
+            if (j) cli_buf_puts(b, ", ");
+            if (!usable_variance(vi) || !usable_variance(vj)) {
+                cli_buf_puts(b, "null");
+                continue;
+            }
+            x = i == j ? 1.0 : r->cov[i * p + j] / (sqrt(vi) * sqrt(vj));
+            cli_buf_json_number(b, x > 1.0 ? 1.0 : x < -1.0 ? -1.0 : x);
+        }
+        cli_buf_puts(b, "]");
+    }
+    cli_buf_puts(b, "]}");
 }
 
 static void json_failure(cli_buf *b, const fit_result *r)
@@ -286,6 +375,9 @@ void fit_json(cli_buf *b, const fit_result *r)
     cli_buf_json_number(b, r->fit_ms);
     cli_buf_puts(b, ", \"std_errors\": ");
     json_params(b, r, r->se);
+    cli_buf_puts(b, ", \"std_errors_estimator\": ");
+    cli_buf_json_string(b, cli_covariance_name(r->covariance));
+    json_correlation(b, r);
     cli_buf_puts(b, ", \"source\": ");
     cli_buf_json_string(b, r->source);
     cli_buf_printf(b, ", \"samples\": %zu, \"active_samples\": %zu", r->n_samples, r->n_active);

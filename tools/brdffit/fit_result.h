@@ -34,11 +34,13 @@ typedef struct fit_result {
     double clearcoat;        /* Schlick R0; 0 = no compensation */
     size_t max_iterations;   /* of each LM run */
     int plausible;           /* BRDFFIT_FIT_PLAUSIBLE */
+    int covariance;          /* BRDFFIT_FIT_COVARIANCE: 0 classic, 1 sandwich */
     int fitted;               /* the fit produced parameters */
     brdffit_status status;    /* the failure when not fitted */
     char error[CLI_MSG_SIZE]; /* why the file failed ("" when it did not) */
     size_t n_channels, n_samples, n_active, n_params;
     double *params, *se; /* n_params each */
+    double *cov;         /* n_params^2, row-major; NULL: BRDFFIT_E_TOO_LARGE */
     unsigned char *held; /* per declared parameter: held by the fit */
     int has_shader;
     double rs, *shader_cd, *shader_cs; /* n_channels each */
@@ -93,6 +95,12 @@ int cli_parse_damping(const char *name, const brdffit_damping **out);
  * "cube-root", "relative"), and back; 0 for an unknown name. */
 const char *cli_objective_name(brdffit_objective objective);
 int cli_parse_objective(const char *name, brdffit_objective *out);
+
+/* The standard-error estimator's name (--errors, JSON "std_errors_estimator"):
+ * "classic" or "sandwich" for BRDFFIT_FIT_COVARIANCE 0 and 1, and back; 0
+ * for an unknown name. */
+const char *cli_covariance_name(int covariance);
+int cli_parse_covariance(const char *name, int *out);
 
 /* The weighting flags as JSON and CSV name them: "solid-angle;cosine",
  * "solid-angle", "cosine" or "none" (`sep` between two names). */

@@ -70,6 +70,7 @@ static void settings(cli_buf *b, const fit_result *r)
     row(b, "clear coat", t);
     cli_format(t, sizeof t, "%zu", r->max_iterations);
     row(b, "iteration limit", t);
+    row(b, "standard errors", cli_covariance_name(r->covariance));
     cli_format(t, sizeof t, "%s, %zu channel%s, %zu samples, %zu inside the cap", r->source,
                r->n_channels, r->n_channels == 1 ? "" : "s", r->n_samples, r->n_active);
     row(b, "data", t);
