@@ -383,7 +383,7 @@ BRDFFIT_API brdffit_status brdffit_fit_std_errors(const brdffit_fit *fit, double
  *
  * brdffit_fit_many() does not return covariances (::brdffit_many_out has
  * standard errors only); fit an item alone for its covariance.
- * Memory: the fit keeps p * p doubles for the matrix from its first run
+ * Memory: the fit keeps p * p doubles for the matrix from its creation
  * when p <= ::BRDFFIT_FIT_MAX_PARAMS (49 for a 3-channel
  * Ashikhmin-Shirley fit; 128 MiB at the limit), none above it.
  * Like every call on the handle, from one thread at a time; the values

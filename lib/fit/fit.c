@@ -38,6 +38,12 @@ static brdffit_status fit_alloc_arrays(brdffit_fit *fit)
     fit->start = bf_calloc(&fit->alloc, fit->n_vec, sizeof(double));
     fit->fixed = bf_calloc(&fit->alloc, np, 1);
     r->params = bf_calloc(&fit->alloc, 2 * fit->n_vec + 4 * fit->nc, sizeof(double));
+    /* the covariance's storage, where it is kept: made here, so that
+     * every run allocates the same */
+    if (fit->n_vec <= BRDFFIT_FIT_MAX_PARAMS) {
+        r->cov = bf_calloc(&fit->alloc, fit->n_vec * fit->n_vec, sizeof(double));
+        if (r->cov == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    }
     if (fit->start == NULL || fit->fixed == NULL || r->params == NULL)
         return BRDFFIT_E_OUT_OF_MEMORY;
     r->std_errors = r->params + fit->n_vec;
@@ -291,14 +297,6 @@ brdffit_status brdffit_fit_run(brdffit_fit *fit)
                       "two-stage pipeline fits each channel alone",
                       fit->pipeline == BRDFFIT_PIPELINE_AUTO ? "auto" : "joint",
                       brdffit_model_name(fit->model), fit->n_vec, fit->nc, BRDFFIT_FIT_MAX_PARAMS);
-    }
-    /* the covariance's storage, made at the first run that can keep it */
-    if (fit->result.cov == NULL && fit->n_vec <= BRDFFIT_FIT_MAX_PARAMS) {
-        fit->result.cov = bf_calloc(&fit->alloc, fit->n_vec * fit->n_vec, sizeof(double));
-        if (fit->result.cov == NULL) {
-            atomic_store(&fit->cancel, 0);
-            return fit_fail(fit, BRDFFIT_E_OUT_OF_MEMORY, "out of memory for the covariance");
-        }
     }
     if (fit->result.cov != NULL)
         memset(fit->result.cov, 0, fit->n_vec * fit->n_vec * sizeof *fit->result.cov);
