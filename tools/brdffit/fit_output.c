@@ -23,22 +23,29 @@ void fit_result_free(fit_result *r)
 
 static const char *const covariance_names[] = {"classic", "sandwich"};
 
+#define N_NAMES(names) (sizeof names / sizeof *names)
+
+/* The index of `name` among n names, or n. */
+static size_t name_index(const char *const *names, size_t n, const char *name)
+{
+    size_t k = 0;
+    while (k < n && strcmp(name, names[k]) != 0) k++;
+    return k;
+}
+
 const char *cli_covariance_name(int covariance)
 {
-    return covariance >= 0 && (size_t)covariance < sizeof covariance_names / sizeof *covariance_names
+    return covariance >= 0 && (size_t)covariance < N_NAMES(covariance_names)
                ? covariance_names[covariance]
                : "unknown";
 }
 
 int cli_parse_covariance(const char *name, int *out)
 {
-    size_t k;
-    for (k = 0; k < sizeof covariance_names / sizeof *covariance_names; k++)
-        if (strcmp(name, covariance_names[k]) == 0) {
-            *out = (int)k;
-            return 1;
-        }
-    return 0;
+    size_t k = name_index(covariance_names, N_NAMES(covariance_names), name);
+    if (k == N_NAMES(covariance_names)) return 0;
+    *out = (int)k;
+    return 1;
 }
 
 const char *cli_stop_token(brdffit_stop_reason reason)
@@ -62,20 +69,15 @@ static const char *const objective_names[] = {"squares", "log", "cube-root", "re
 
 const char *cli_objective_name(brdffit_objective objective)
 {
-    return (size_t)objective < sizeof objective_names / sizeof *objective_names
-               ? objective_names[objective]
-               : "unknown";
+    return (size_t)objective < N_NAMES(objective_names) ? objective_names[objective] : "unknown";
 }
 
 int cli_parse_objective(const char *name, brdffit_objective *out)
 {
-    size_t k;
-    for (k = 0; k < sizeof objective_names / sizeof *objective_names; k++)
-        if (strcmp(name, objective_names[k]) == 0) {
-            *out = (brdffit_objective)k;
-            return 1;
-        }
-    return 0;
+    size_t k = name_index(objective_names, N_NAMES(objective_names), name);
+    if (k == N_NAMES(objective_names)) return 0;
+    *out = (brdffit_objective)k;
+    return 1;
 }
 
 const char *cli_pipeline_name(brdffit_pipeline p)
@@ -165,8 +167,7 @@ void fit_summary(cli_buf *b, const fit_result *r)
                    cli_pipeline_name(r->pipeline));
     if (r->objective != BRDFFIT_OBJECTIVE_SQUARES)
         cli_buf_printf(b, ", objective %s", cli_objective_name(r->objective));
-    if (r->covariance != 0)
-        cli_buf_printf(b, ", %s errors", cli_covariance_name(r->covariance));
+    if (r->covariance != 0) cli_buf_printf(b, ", %s errors", cli_covariance_name(r->covariance));
     cli_buf_puts(b, "\n");
     summary_settings(b, r);
     for (k = 0; k < n_decl; k++) summary_param(b, r, k);
