@@ -51,11 +51,22 @@ static double clamp_unit(double x)
     return x > 1.0 ? 1.0 : (x < -1.0 ? -1.0 : x);
 }
 
+/* Below this |cos theta| a polar angle is 90 degrees: a few ulps of pi/2. */
+#define BF_HORIZON_COS 1e-15
+
+double bf_cos_polar(double theta)
+{
+    double c = cos(theta);
+    return fabs(c) <= BF_HORIZON_COS ? 0.0 : c;
+}
+
 void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, double theta_o,
                      double phi_o)
 {
-    double lx = sin(theta_i) * cos(phi_i), ly = sin(theta_i) * sin(phi_i), lz = cos(theta_i);
-    double vx = sin(theta_o) * cos(phi_o), vy = sin(theta_o) * sin(phi_o), vz = cos(theta_o);
+    double lx = sin(theta_i) * cos(phi_i), ly = sin(theta_i) * sin(phi_i),
+           lz = bf_cos_polar(theta_i);
+    double vx = sin(theta_o) * cos(phi_o), vy = sin(theta_o) * sin(phi_o),
+           vz = bf_cos_polar(theta_o);
     double hx = lx + vx, hy = ly + vy, hz = lz + vz;
     double len = sqrt(hx * hx + hy * hy + hz * hz);
     if (len > 1e-12) {

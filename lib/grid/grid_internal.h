@@ -36,6 +36,11 @@ void bf_geometry_free(bf_geometry *g, const brdffit_allocator *a);
  * (theta_o, phi_o), radians; guarded at grazing angles (never NaN/Inf). */
 void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, double theta_o,
                      double phi_o);
+/* cos(theta) of a polar angle, exactly 0 where theta is 90 degrees to
+ * within the rounding of a double (|cos theta| <= 1e-15; the double
+ * nearest pi/2 itself gives 6.1e-17), so that a grazing light or view lies
+ * exactly on the horizon (docs/definitions.md, Geometry). */
+double bf_cos_polar(double theta);
 /* A batch view of samples [first, first + count). */
 void bf_geometry_batch(const bf_geometry *g, size_t first, size_t count, brdffit_batch *out);
 
@@ -44,14 +49,14 @@ struct brdffit_grid {
     brdffit_allocator alloc;
     brdffit_grid_kind kind;
     size_t n_samples, n_channels, n_missing;
-    double *axis[3];   /* regular: theta_i, theta_o, phi_o (radians) */
+    double *axis[3]; /* regular: theta_i, theta_o, phi_o (radians) */
     size_t n_axis[3];
     bf_geometry geo;
-    double *values;          /* [c * n_samples + s]; missing values are 0 */
-    unsigned char *missing;  /* NULL when nothing is missing, else [c * n_samples + s] */
-    double *sample_weight;   /* scattered: NULL (uniform) or one per sample */
-    double *max_theta;       /* scattered: max(theta_i, theta_o), ascending */
-    size_t *order;           /* scattered: NULL when the input was in stored order, else
+    double *values;         /* [c * n_samples + s]; missing values are 0 */
+    unsigned char *missing; /* NULL when nothing is missing, else [c * n_samples + s] */
+    double *sample_weight;  /* scattered: NULL (uniform) or one per sample */
+    double *max_theta;      /* scattered: max(theta_i, theta_o), ascending */
+    size_t *order;          /* scattered: NULL when the input was in stored order, else
                               * the input row of every stored sample */
 };
 
@@ -93,9 +98,9 @@ void bf_grid_store_values(brdffit_grid *g, const double *values, const unsigned 
 typedef struct bf_weight_plan {
     const brdffit_grid *grid;
     size_t n_chunks;
-    size_t n_active;  /* active samples */
-    double scale;     /* normalisation factor */
-    double divisor;   /* scattered given weights are divided by it first (1 or their largest) */
+    size_t n_active; /* active samples */
+    double scale;    /* normalisation factor */
+    double divisor;  /* scattered given weights are divided by it first (1 or their largest) */
     unsigned flags;
     /* regular grids */
     size_t n_ti_act, n_to_act, chunks_per_ti;
@@ -103,8 +108,7 @@ typedef struct bf_weight_plan {
 } bf_weight_plan;
 
 brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, double cap,
-                                   unsigned flags, const brdffit_allocator *a,
-                                   brdffit_error *err);
+                                   unsigned flags, const brdffit_allocator *a, brdffit_error *err);
 void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
 /* Chunk `index` (< n_chunks): its first sample, its length, and its weights
  * written to `weights` (room for BF_CHUNK doubles). */

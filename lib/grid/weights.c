@@ -76,7 +76,8 @@ static double regular_factors(bf_weight_plan *p, double cap)
     double sum_to = 0.0, sum_po = 0.0;
     int solid = (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) != 0;
     int cosine = (p->flags & BRDFFIT_WEIGHT_COSINE) != 0;
-    for (i = 0; i < p->n_ti_act; i++) p->w_ti[i] = cosine ? fmax(cos(g->axis[0][i]), 0.0) : 1.0;
+    for (i = 0; i < p->n_ti_act; i++)
+        p->w_ti[i] = cosine ? fmax(bf_cos_polar(g->axis[0][i]), 0.0) : 1.0;
     for (j = 0; j < p->n_to_act; j++) {
         double lo, hi;
         theta_cell(g->axis[1], g->n_axis[1], j, p->n_to_act - 1, cap, &lo, &hi);
@@ -122,13 +123,13 @@ static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_
     if (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) {
         /* Cells so small that the total is subnormal (1 / sum would
          * overflow): scale each axis's factors to a largest of 1 first. */
-        if (!(sum >= DBL_MIN))
-            sum = rescale(p->w_to, p->n_to_act) * rescale(p->w_po, n_po);
+        if (!(sum >= DBL_MIN)) sum = rescale(p->w_to, p->n_to_act) * rescale(p->w_po, n_po);
         if (!(sum > 0.0))
             return bf_fail(err, BRDFFIT_E_NO_DATA,
                            "the view cells within the cap of %g rad have no solid angle (the "
                            "theta_o or phi_o axis has a single value there, or its values are "
-                           "too close together); weigh without the solid angle", cap);
+                           "too close together); weigh without the solid angle",
+                           cap);
         p->scale = 1.0 / sum;
     }
     row = p->n_to_act * n_po;
@@ -202,9 +203,10 @@ static void chunk_scattered(const bf_weight_plan *p, size_t index, size_t *first
     *first = start;
     *count = n;
     for (t = 0; t < n; t++)
-        weights[t] = solid ? (g->sample_weight != NULL ? g->sample_weight[start + t] / p->divisor
-                                                       : 1.0) * p->scale
-                           : 1.0;
+        weights[t] =
+            solid ? (g->sample_weight != NULL ? g->sample_weight[start + t] / p->divisor : 1.0) *
+                        p->scale
+                  : 1.0;
     if (cosine)
         for (t = 0; t < n; t++) {
             double c = g->geo.lz[start + t];
