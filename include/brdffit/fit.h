@@ -146,9 +146,10 @@ typedef enum brdffit_fit_setting {
  * - RELATIVE: r = w_s (M - R) / (|R| + delta); a negative R counts by its
  *   size.
  *
- * delta = 10^-3 times the mean |R| over the present values of every
- * channel with a non-zero weight inside the cap (as stored, before any
- * clear-coat division).
+ * delta = 10^-3 times the geometric mean of the non-zero |R| over the
+ * present values of every channel with a non-zero weight inside the cap
+ * (as stored, before any clear-coat division); the geometric mean, so that
+ * a few grazing spikes cannot lift delta above most values.
  * The error figures e and E do not change with the objective; the cost
  * (::BRDFFIT_METRIC_COST) is the objective's sum of r^2.
  * The auto pipeline under LOG, CUBE_ROOT or RELATIVE scans the shape

@@ -88,8 +88,9 @@ static const bf_weight_plan *objective_plan(const bf_run *run)
                                                                           : &run->plan;
 }
 
-/* Sum and count of |R| over chunk ci's fitted values; 0, or -1 with the
- * first value whose log the log objective cannot take in *bad. */
+/* Sum of ln |R| and count over chunk ci's fitted non-zero values; 0, or
+ * -1 with the first value whose log the log objective cannot take in
+ * *bad. */
 static int chunk_values(const bf_run *run, size_t ci, double *sum, double *count, double *bad)
 {
     const brdffit_fit *fit = run->fit;
@@ -104,8 +105,10 @@ static int chunk_values(const bf_run *run, size_t ci, double *sum, double *count
             double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0, r = meas[s];
             if (w[s] == 0.0 || pres[s] == 0.0) continue;
             if (fit->clearcoat > 0.0) r /= bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]);
-            *sum += fabs(meas[s]);
-            *count += 1.0;
+            if (meas[s] != 0.0) {
+                *sum += log(fabs(meas[s]));
+                *count += 1.0;
+            }
             if (fit->objective == BRDFFIT_OBJECTIVE_LOG && !(1.0 + cz * r > 0.0)) {
                 *bad = r;
                 return -1;
@@ -115,8 +118,12 @@ static int chunk_values(const bf_run *run, size_t ci, double *sum, double *count
     return 0;
 }
 
-/* The objective's floor delta (brdffit_objective: 1e-3 of the mean |R|),
- * and the log objective's check that every 1 + cos(theta_i) R > 0. */
+/* The objective's floor delta (brdffit_objective: 1e-3 of the geometric
+ * mean of the non-zero |R|, which one grazing spike cannot move: with the
+ * arithmetic mean, a single value of 1e8 among thousands of order 0.1 set
+ * delta above most values, and the cube root's floored slope then
+ * disagreed with its residual almost everywhere, so the fit stalled), and
+ * the log objective's check that every 1 + cos(theta_i) R > 0. */
 static brdffit_status prepare_objective(bf_run *run)
 {
     double sum = 0.0, count = 0.0, bad = 0.0;
@@ -128,7 +135,7 @@ static brdffit_status prepare_objective(bf_run *run)
                           "the log objective needs 1 + cos(theta_i) R > 0 for every measured "
                           "value R inside the cap, and R = %g is not: use another objective",
                           bad);
-    run->delta = count > 0.0 ? 1e-3 * sum / count : 0.0;
+    run->delta = count > 0.0 ? 1e-3 * exp(sum / count) : 0.0;
     if (!(run->delta > 0.0)) run->delta = BF_FIT_VALUE_MIN;
     return BRDFFIT_OK;
 }
@@ -149,17 +156,19 @@ static brdffit_status metrics_of(bf_run *run, size_t nc, size_t c)
     bf_result *r = run->result;
     bf_stage st;
     size_t k;
-    brdffit_status status = bf_stage_init(&st, run, nc, nc == fit->nc ? BF_SOURCE_CHANNELS
-                                                                      : BF_SOURCE_ONE_CHANNEL,
-                                          c, 0);
+    brdffit_status status = bf_stage_init(
+        &st, run, nc, nc == fit->nc ? BF_SOURCE_CHANNELS : BF_SOURCE_ONE_CHANNEL, c, 0);
     if (status != BRDFFIT_OK) return status;
-    if (nc == fit->nc) memcpy(st.p, r->params, st.n * sizeof *st.p);
+    if (nc == fit->nc)
+        memcpy(st.p, r->params, st.n * sizeof *st.p);
     else
         for (k = 0; k < st.pb.ly.n_params; k++)
             st.p[st.vindex[k]] = r->params[brdffit_model_vector_index(fit->model, k, c, fit->nc)];
     status = bf_stage_pass(&st, BF_PASS_METRICS);
-    if (status == BRDFFIT_OK) memcpy(r->metrics + 4 * c, st.acc, 4 * nc * sizeof(double));
-    else status = bf_stage_fail(&st, status, "error figures");
+    if (status == BRDFFIT_OK)
+        memcpy(r->metrics + 4 * c, st.acc, 4 * nc * sizeof(double));
+    else
+        status = bf_stage_fail(&st, status, "error figures");
     bf_stage_free(&st);
     return status;
 }
