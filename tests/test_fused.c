@@ -4,8 +4,8 @@
  * arrays and dot products, a different summation order) to rounding, for
  * every kind of pass it serves, every model of the lobe form (Lambert,
  * the one-lobe models, the two-lobe Ashikhmin-Shirley) and of the
- * microfacet form (GGX, Cook-Torrance, one lobe and two; Ward, Ward-Duer),
- * values read in place
+ * microfacet form (GGX, Cook-Torrance, one lobe and two; Ward, Ward-Duer;
+ * the Ashikhmin-Shirley shader form with Fresnel), values read in place
  * and loaded (channel mean, clear coat), on grids whose chunks end in a
  * partial group of lanes. */
 #include <math.h>
@@ -76,7 +76,10 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     if (strcmp(model, "ashikhmin-shirley-2") == 0) s->params[s->vindex[nc]] = 300.0;
     /* the microfacet form: roughness 0.3 (and 0.08 for a second lobe),
      * F0 0.2 */
-    if (pb->mf != BF_MF_NONE) {
+    if (pb->mf == BF_MF_AS_FRESNEL) {
+        /* ns 40 as above, Rs 0.3 (the diffuse scaled by 0.7) */
+        s->params[s->vindex[nc]] = 0.3;
+    } else if (pb->mf != BF_MF_NONE) {
         const size_t nl = (size_t)pb->lobe - 1;
         s->params[s->vindex[0]] = 0.3;
         if (nl == 2) s->params[s->vindex[nc]] = 0.08;
@@ -247,6 +250,30 @@ static void test_microfacet(void **state)
     check_case("ggx", 3, BF_SOURCE_CHANNELS, 0.04, 90.0);
 }
 
+/* The Ashikhmin-Shirley shader form (Rs in place of F0, the diffuse
+ * (1 - Rs) fd in place of 1/pi): one lobe, NE = 5 (B_0, B_1, dB_1/dns,
+ * dB_0/dRs, dB_1/dRs), fused for every kind the route serves. */
+static void test_ashikhmin_shirley_fresnel(void **state)
+{
+    setup s;
+    (void)state;
+    setup_init(&s, "ashikhmin-shirley-fresnel", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    assert_int_equal(s.pb.lobe, 2);
+    assert_int_equal(s.pb.mf, BF_MF_AS_FRESNEL);
+    assert_true(bf_fused_serves(&s.pb, BF_PASS_COST));
+    assert_true(bf_fused_serves(&s.pb, BF_PASS_NORMAL));
+    assert_true(bf_fused_serves(&s.pb, BF_PASS_VARPRO));
+    assert_true(bf_fused_in_place(&s.pb, BF_PASS_NORMAL));
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_NORMAL), (1 + 15 + 3 * 5) * 8);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_VARPRO), (3 + 3 * 3) * 8);
+    assert_int_equal(bf_fused_acc_size(&s.pb, BF_PASS_COST), 8);
+    setup_free(&s);
+    check_case("ashikhmin-shirley-fresnel", 3, BF_SOURCE_CHANNELS, 0.0, 90.0);
+    check_case("ashikhmin-shirley-fresnel", 3, BF_SOURCE_CHANNELS, 0.0, 75.0);
+    check_case("ashikhmin-shirley-fresnel", 1, BF_SOURCE_MEAN, 0.0, 75.0);
+    check_case("ashikhmin-shirley-fresnel", 3, BF_SOURCE_CHANNELS, 0.04, 90.0);
+}
+
 /* Values loaded by the driver instead of read in place. */
 static void test_loaded_values(void **state)
 {
@@ -275,14 +302,14 @@ static void test_what_it_serves(void **state)
         brdffit_model *m = NULL;
         bf_problem pb;
         memset(&pb, 0, sizeof pb);
-        assert_int_equal(brdffit_model_create(&m, "ashikhmin-shirley-fresnel", NULL, NULL),
-                         BRDFFIT_OK);
+        assert_int_equal(brdffit_model_create(&m, "lafortune", NULL, NULL), BRDFFIT_OK);
         pb.model = m;
         pb.grid = s.grid;
         pb.objective = BRDFFIT_OBJECTIVE_SQUARES;
         pb.nc = 3;
         pb.threads = 1;
         bf_pass_prepare(&pb);
+        assert_non_null(pb.kernel); /* in basis form, but not fused */
         assert_false(pb.lobe);
         brdffit_model_destroy(m);
     }
@@ -297,6 +324,7 @@ int main(void)
         cmocka_unit_test(test_phong_and_blinn),
         cmocka_unit_test(test_lambert_and_two_lobes),
         cmocka_unit_test(test_microfacet),
+        cmocka_unit_test(test_ashikhmin_shirley_fresnel),
         cmocka_unit_test(test_loaded_values),
         cmocka_unit_test(test_what_it_serves),
     };

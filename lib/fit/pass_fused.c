@@ -90,6 +90,8 @@ static inline void sweep_lobes(const lobe_in *in, size_t n, size_t nc, size_t nl
         sweep_kind(in, n, nc, 1, BF_MF_WARD, kind, acc, width);
     } else if (mf == BF_MF_WARD_DUER) {
         sweep_kind(in, n, nc, 1, BF_MF_WARD_DUER, kind, acc, width);
+    } else if (mf == BF_MF_AS_FRESNEL) {
+        sweep_kind(in, n, nc, 1, BF_MF_AS_FRESNEL, kind, acc, width);
     } else {
         if (nl == 1) sweep_kind(in, n, nc, 1, BF_MF_NONE, kind, acc, width);
         else if (nl == 2) sweep_kind(in, n, nc, 2, BF_MF_NONE, kind, acc, width);
@@ -162,11 +164,12 @@ void bf_fused_prepare(bf_problem *pb)
         bf_kernel_form(pb->kernel, &f);
         pb->lobe = 1 + (int)f.n_shape;
     } else if (bf_kernel_microfacet(pb->kernel) != BF_MF_NONE) {
-        /* shape parameters: a roughness per lobe, then F0 (Ward's: none) */
+        /* shape parameters: a roughness per lobe, then F0 (Ward's: none;
+         * the Ashikhmin-Shirley shader form: ns, then Rs) */
         bf_basis_form f;
         bf_kernel_form(pb->kernel, &f);
         pb->mf = (int)bf_kernel_microfacet(pb->kernel);
-        pb->lobe = (int)f.n_shape + (has_f0(pb->mf) ? 0 : 1);
+        pb->lobe = (int)f.n_shape + (has_f0(pb->mf) || is_asf(pb->mf) ? 0 : 1);
     }
 }
 
@@ -205,6 +208,28 @@ static void fill_in(const bf_problem *pb, bf_pass_kind kind, const double *param
     const int in_place = bf_fused_in_place(pb, kind);
     bf_lobe lobe = {BF_LOBE_X_LOG_NH, BF_LOBE_G_ONE, 0.0, 0.0};
     size_t c, i, q;
+    if (is_asf(pb->mf)) {
+        /* shape (ns, Rs), then (cd, cs); the lobe's constants those of
+         * kernel_ashikhmin.c's as_lobe(): k = ns + 1, dk = 1 */
+        const double ns = params[pb->vindex[0]];
+        in->ns[0] = ns;
+        in->k[0] = ns + 1.0;
+        in->dk[0] = 1.0;
+        in->f0 = params[pb->vindex[nc]];
+        in->w = sc->w;
+        in->x = geo->log_nh + first;
+        in->g = geo->as_g + first;
+        in->dot[0] = geo->nh + first;
+        in->dot[1] = geo->nl + first;
+        in->dot[2] = geo->nv + first;
+        in->dot[3] = geo->hv + first;
+        for (c = 0; c < nc; c++) {
+            in->cd[c] = params[pb->vindex[2 * nc + c]];
+            in->cs[0][c] = params[pb->vindex[3 * nc + c]];
+            in->m[c] = in_place ? bf_grid_values(pb->grid, c) + first : sc->meas + c * n;
+        }
+        return;
+    }
     if (pb->mf != BF_MF_NONE) {
         /* shape (r_1 .. r_nl, F0; Ward's: a), then (cd, cs_1 .. cs_nl) */
         const size_t K = nl + (has_f0(pb->mf) ? 1 : 0);

@@ -21,13 +21,16 @@
  * runs: 0, 1 or 2 (the microfacet form 1 or 2) */
 #define MAX_LOBES 2
 /* lanes of sums with NE functions of the extended basis (the lobe form
- * 1 + 2 nl, the microfacet form 1 + 3 nl) and L = 1 + nl linear ones:
+ * 1 + 2 nl, the microfacet form 1 + 3 nl, Ward's 3, the Ashikhmin-Shirley
+ * shader form 5) and L = 1 + nl linear ones:
  * NORMAL 1 + NE (NE + 1) / 2 + nc NE, VARPRO L (L + 1) / 2 + nc (L + 1),
  * COST 1; at most 50 (two microfacet lobes on 3 channels) */
 #define MAX_SUMS 64
 /* functions of the largest extended basis (two microfacet lobes) */
 #define MAX_EXT (1 + 3 * MAX_LOBES)
 #define INV_PI (1.0 / BF_PI)
+/* the Ashikhmin-Shirley shader form's diffuse constant (kernel_ashikhmin.c) */
+#define ASF_KD (28.0 / (23.0 * BF_PI))
 
 typedef double lanes_t[LANES];
 
@@ -35,7 +38,9 @@ typedef double lanes_t[LANES];
  * lobes (NULL without lobes), ns, k, dk per lobe. The microfacet form
  * (mf = BF_MF_GGX or BF_MF_CT): the dot products dot[0..3] = n.h, n.l,
  * n.v, h.v of the grid's geometry, the roughness r per lobe with its
- * parameter-only factors, and the shared F0. */
+ * parameter-only factors, and the shared F0. The Ashikhmin-Shirley
+ * shader form (BF_MF_AS_FRESNEL): one lobe of the lobe form (x, g, ns, k,
+ * dk), the dot products and Rs in f0. */
 typedef struct lobe_in {
     const double *w, *x, *g, *m[3], *dot[4];
     double ns[MAX_LOBES], k[MAX_LOBES], dk[MAX_LOBES], cd[3], cs[MAX_LOBES][3];
@@ -52,9 +57,16 @@ static inline int has_f0(int mf)
     return mf == BF_MF_GGX || mf == BF_MF_CT;
 }
 
+/* the Ashikhmin-Shirley shader form: Rs in place of F0 and a diffuse
+ * B_0 = (1 - Rs) fd of the sample in place of 1/pi */
+static inline int is_asf(int mf)
+{
+    return mf == BF_MF_AS_FRESNEL;
+}
+
 static inline size_t n_ext(size_t nl, int mf)
 {
-    return has_f0(mf) ? 1 + 3 * nl : 1 + 2 * nl;
+    return is_asf(mf) ? 5 : has_f0(mf) ? 1 + 3 * nl : 1 + 2 * nl;
 }
 
 static inline size_t sums_of(bf_pass_kind kind, size_t nc, size_t nl, int mf)
@@ -85,7 +97,7 @@ static inline void pad_tail(const lobe_in *in, size_t i, size_t n, size_t nc, si
     *t = *in;
     for (l = 0; i + l < n; l++) {
         b->w[l] = in->w[i + l];
-        if (nl > 0 && mf == BF_MF_NONE) {
+        if (nl > 0 && (mf == BF_MF_NONE || is_asf(mf))) {
             b->x[l] = in->x[i + l];
             b->g[l] = in->g[i + l];
         }
@@ -144,12 +156,14 @@ static inline void lane_basis(const lobe_in *in, size_t j, size_t nl, int derivs
 }
 
 /* The microfacet form: u = w (1/pi, B_q, dB_q/dr_q, dB_q/dF0) in the
- * order of models/basis.h (Ward's: w (1/pi, B_1, dB_1/da)) and b = B_q,
- * with the expressions of kernel_microfacet.c (ggx_geometry(),
- * ggx_lobe(), ct_geometry(), ct_lobe()) and kernel_ward.c
- * (ward_basis_common()) operation for operation. */
+ * order of models/basis.h (Ward's: w (1/pi, B_1, dB_1/da); the
+ * Ashikhmin-Shirley shader form's: w (B_0, B_1, dB_1/dns, dB_0/dRs,
+ * dB_1/dRs), its B_0 into *bd) and b = B_q, with the expressions of
+ * kernel_microfacet.c (ggx_geometry(), ggx_lobe(), ct_geometry(),
+ * ct_lobe()), kernel_ward.c (ward_basis_common()) and kernel_ashikhmin.c
+ * (as_lobe(), asf_basis()) operation for operation. */
 static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf, int derivs,
-                                 double *u, double *b)
+                                 double *u, double *b, double *bd)
 {
     const double w = in->w[j], nh = in->dot[0][j], nl_ = in->dot[1][j], nv = in->dot[2][j];
     const double hv1 = 1.0 - in->dot[3][j], hv2 = hv1 * hv1, f5 = hv2 * hv2 * hv1;
@@ -176,6 +190,21 @@ static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf,
                 u[1 + nl + q] = w * ((dd * gg + d * dg) * w4 * fr);
                 u[1 + 2 * nl + q] = w * (dgs * omf);
             }
+        }
+    } else if (is_asf(mf)) {
+        const double x = in->x[j], p = bf_exp(in->ns[0] * x) * in->g[j];
+        const double ol = 1.0 - 0.5 * nl_, ol2 = ol * ol, ov = 1.0 - 0.5 * nv, ov2 = ov * ov;
+        const double fd = ASF_KD * (1.0 - ol2 * ol2 * ol) * (1.0 - ov2 * ov2 * ov);
+        const double lobe = in->k[0] * p;
+        (void)nh;
+        *bd = (1.0 - in->f0) * fd;
+        b[0] = lobe * fr;
+        u[0] = w * *bd;
+        u[1] = w * b[0];
+        if (derivs) {
+            u[2] = w * (((in->dk[0] + in->k[0] * x) * p) * fr);
+            u[3] = w * -fd;
+            u[4] = w * (lobe * omf);
         }
     } else if (mf == BF_MF_WARD || mf == BF_MF_WARD_DUER) {
         const double inv_n = mf == BF_MF_WARD_DUER ? in->four_r[0] / (nl_ * nv)
@@ -205,11 +234,12 @@ static inline void lane_mf_basis(const lobe_in *in, size_t j, size_t nl, int mf,
     }
 }
 
-/* d_c = w (value_c - measured_c), in the order of the basis route */
-static inline double lane_residual(const lobe_in *in, size_t j, size_t c, size_t nl,
-                                   const double *b)
+/* d_c = w (value_c - measured_c), in the order of the basis route (B_0
+ * = bd for the Ashikhmin-Shirley shader form, else 1/pi) */
+static inline double lane_residual(const lobe_in *in, size_t j, size_t c, size_t nl, int mf,
+                                   double bd, const double *b)
 {
-    double d = -in->m[c][j] + in->cd[c] * INV_PI;
+    double d = -in->m[c][j] + (is_asf(mf) ? in->cd[c] * bd : in->cd[c] * INV_PI);
     size_t q;
     for (q = 0; q < nl; q++) d = d + in->cs[q][c] * b[q];
     return d * in->w[j];
@@ -225,8 +255,9 @@ static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, int 
     const size_t ng = ne * (ne + 1) / 2;
     size_t l, c, a, e, t;
     for (l = 0; l < LANES; l++) {
-        double u[MAX_EXT], b[MAX_LOBES];
-        if (mf != BF_MF_NONE) lane_mf_basis(in, i + l, nl, mf, kind == BF_PASS_NORMAL, u, b);
+        double u[MAX_EXT], b[MAX_LOBES], bd = INV_PI;
+        if (mf != BF_MF_NONE)
+            lane_mf_basis(in, i + l, nl, mf, kind == BF_PASS_NORMAL, u, b, &bd);
         else lane_basis(in, i + l, nl, kind == BF_PASS_NORMAL, u, b);
         t = kind == BF_PASS_NORMAL ? 1 : 0;
         if (kind != BF_PASS_COST)
@@ -238,7 +269,7 @@ static inline void group(const lobe_in *in, size_t i, size_t nc, size_t nl, int 
                 for (a = 0; a < ne; a++) s->v[ng + c * ne + a][l] += u[a] * r;
                 s->v[ng + nc * ne + c][l] += r * r;
             } else {
-                const double d = lane_residual(in, i + l, c, nl, b);
+                const double d = lane_residual(in, i + l, c, nl, mf, bd, b);
                 s->v[0][l] += d * d;
                 if (kind == BF_PASS_NORMAL)
                     for (a = 0; a < ne; a++) s->v[1 + ng + c * ne + a][l] += u[a] * d;

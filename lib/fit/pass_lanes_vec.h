@@ -81,10 +81,11 @@ static inline VD VN(vmin)(VD a, VD b)
     return VN(vsel)(a < b, a, b);
 }
 
-/* The microfacet form's weighted basis u and lobe values b of VW samples
- * from i: lane_mf_basis() of pass_lanes.h, operation for operation. */
+/* The microfacet form's weighted basis u, lobe values b (and the
+ * Ashikhmin-Shirley shader form's B_0 bd) of VW samples from i:
+ * lane_mf_basis() of pass_lanes.h, operation for operation. */
 static inline void VN(mf_basis)(const lobe_in *in, size_t i, size_t nl, int mf, int derivs, VD w,
-                                VD *u, VD *b)
+                                VD *u, VD *b, VD *bd)
 {
     const VD one = VN(vsplat)(1.0);
     const VD nh = VN(vload)(in->dot[0] + i), nl_ = VN(vload)(in->dot[1] + i);
@@ -115,6 +116,23 @@ static inline void VN(mf_basis)(const lobe_in *in, size_t i, size_t nl, int mf, 
                 u[1 + 2 * nl + q] = w * (dgs * omf);
             }
         }
+    } else if (is_asf(mf)) {
+        const VD x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k[0]);
+        const VD p = VN(vexp)(VN(vsplat)(in->ns[0]) * x) * VN(vload)(in->g + i);
+        const VD half = VN(vsplat)(0.5);
+        const VD ol = one - half * nl_, ol2 = ol * ol, ov = one - half * nv, ov2 = ov * ov;
+        const VD fd = VN(vsplat)(ASF_KD) * (one - ol2 * ol2 * ol) * (one - ov2 * ov2 * ov);
+        const VD lobe = kk * p;
+        (void)nh;
+        *bd = VN(vsplat)(1.0 - in->f0) * fd;
+        b[0] = lobe * fr;
+        u[0] = w * *bd;
+        u[1] = w * b[0];
+        if (derivs) {
+            u[2] = w * (((VN(vsplat)(in->dk[0]) + kk * x) * p) * fr);
+            u[3] = w * -fd;
+            u[4] = w * (lobe * omf);
+        }
     } else if (mf == BF_MF_WARD || mf == BF_MF_WARD_DUER) {
         const VD k = VN(vsplat)(in->four_r[0]);
         const VD inv_n = mf == BF_MF_WARD_DUER ? k / (nl_ * nv) : k / VN(vsqrt)(nl_ * nv);
@@ -144,10 +162,11 @@ static inline void VN(mf_basis)(const lobe_in *in, size_t i, size_t nl, int mf, 
 }
 
 /* The residual, in the order of the plain version. */
-static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, size_t nl, const VD *b,
-                               VD w)
+static inline VD VN(vresidual)(const lobe_in *in, size_t i, size_t c, size_t nl, int mf, VD bd,
+                               const VD *b, VD w)
 {
-    VD d = -VN(vload)(in->m[c] + i) + VN(vsplat)(in->cd[c] * INV_PI);
+    VD d = -VN(vload)(in->m[c] + i) +
+           (is_asf(mf) ? VN(vsplat)(in->cd[c]) * bd : VN(vsplat)(in->cd[c] * INV_PI));
     size_t q;
     for (q = 0; q < nl; q++) d = d + VN(vsplat)(in->cs[q][c]) * b[q];
     return d * w;
@@ -160,10 +179,10 @@ static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl, 
     const size_t ne = kind == BF_PASS_NORMAL ? n_ext(nl, mf) : 1 + nl;
     const size_t ng = ne * (ne + 1) / 2;
     const VD w = VN(vload)(in->w + i);
-    VD u[MAX_EXT], b[MAX_LOBES];
+    VD u[MAX_EXT], b[MAX_LOBES], bd = VN(vsplat)(INV_PI);
     size_t q, a, e, c, t;
     u[0] = w * VN(vsplat)(INV_PI);
-    if (mf != BF_MF_NONE) VN(mf_basis)(in, i, nl, mf, kind == BF_PASS_NORMAL, w, u, b);
+    if (mf != BF_MF_NONE) VN(mf_basis)(in, i, nl, mf, kind == BF_PASS_NORMAL, w, u, b, &bd);
     else
         for (q = 0; q < nl; q++) {
             const VD x = VN(vload)(in->x + i), kk = VN(vsplat)(in->k[q]);
@@ -183,7 +202,7 @@ static inline void VN(group)(const lobe_in *in, size_t i, size_t nc, size_t nl, 
             for (a = 0; a < ne; a++) s[ng + c * ne + a] += u[a] * r;
             s[ng + nc * ne + c] += r * r;
         } else {
-            const VD d = VN(vresidual)(in, i, c, nl, b, w);
+            const VD d = VN(vresidual)(in, i, c, nl, mf, bd, b, w);
             s[0] += d * d;
             if (kind == BF_PASS_NORMAL)
                 for (a = 0; a < ne; a++) s[1 + ng + c * ne + a] += u[a] * d;

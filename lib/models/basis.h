@@ -87,12 +87,21 @@ typedef enum bf_microfacet {
     /* Ward's isotropic lobe in the same frame, one lobe and no F0: shape
      * (a), B_1 = exp(-tan^2 theta_h / a^2) / (4 pi a^2 N), extended basis
      * (1/pi, B_1, dB_1/da) (kernel_ward.c) */
-    BF_MF_WARD,     /* N = sqrt((n.l)(n.v)) */
-    BF_MF_WARD_DUER /* N = (n.l)(n.v) */
+    BF_MF_WARD,      /* N = sqrt((n.l)(n.v)) */
+    BF_MF_WARD_DUER, /* N = (n.l)(n.v) */
+    /* Ashikhmin-Shirley's shader form (kernel_ashikhmin.c), one lobe with
+     * Rs in place of F0 and a diffuse that depends on it: shape (ns, Rs),
+     * linear (cd, cs), B_0 = (1 - Rs) fd, B_1 = (ns + 1) P F with P =
+     * exp(ns ln n.h) / (8 pi h.v max(n.l, n.v)) as in the lobe form, fd =
+     * 28 / (23 pi) (1 - (1 - n.l / 2)^5) (1 - (1 - n.v / 2)^5) and F = Rs +
+     * (1 - Rs) (1 - h.v)^5; extended basis (B_0, B_1, dB_1/dns, dB_0/dRs
+     * = -fd, dB_1/dRs = (ns + 1) P (1 - (1 - h.v)^5)) */
+    BF_MF_AS_FRESNEL
 } bf_microfacet;
 
 /* The microfacet family of kernel k (BF_MF_NONE: not of the form); its
- * lobes are n_shape - 1 (n_shape for Ward's). The fused pass computes the
+ * lobes are n_shape - 1 (n_shape for Ward's; one for
+ * BF_MF_AS_FRESNEL). The fused pass computes the
  * kernel's expressions, so the same basis bits. */
 bf_microfacet bf_kernel_microfacet(const bf_kernel *k);
 

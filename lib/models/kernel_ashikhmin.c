@@ -118,8 +118,9 @@ static void asf_basis(const brdffit_batch *batch, size_t first, size_t count, co
     }
 }
 
-/* ns -> cs; Rs -> cd, cs. */
-static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis, NULL, BF_MF_NONE};
+/* ns -> cs; Rs -> cd, cs. The fused pass computes the expressions above
+ * (models/basis.h, BF_MF_AS_FRESNEL). */
+static const bf_kernel asf_kernel = {2, 2, {2u, 3u}, asf_basis, NULL, BF_MF_AS_FRESNEL};
 
 static brdffit_status asf_eval(const brdffit_batch *batch, const double *params, size_t n_channels,
                                double *values, double *jacobian, void *user)
