@@ -16,7 +16,9 @@
  * 1 / (4 n.l n.v), (1 - h.v)^5, the V-cavity G) once per group of lanes
  * and shared by the lobes, the parameter-only factors (a^2, 2 / a, 4 a,
  * -2 a; 1 / m^2, 2 / m) once per chunk; and Ward's lobes (Ward,
- * Ward-Duer) alike, without F0. Both take the weights of the chunk
+ * Ward-Duer) alike, without F0; and ashikhmin-shirley-fresnel in the
+ * same form, Rs in F0's place and its diffuse (1 - Rs) fd in 1/pi's, fd
+ * and (1 - h.v)^5 once per group of lanes. Both take the weights of the chunk
  * as the driver computed them and the measured values in place. Per
  * sample the loop evaluates the basis once and adds every sum of the pass
  * (NORMAL on 3 channels and one lobe of the lobe form: the cost, the 6

@@ -1,7 +1,8 @@
 /* The fused inner loop of the basis route (pass_fused.c): models of the
  * lobe form (models/basis.h: Lambert, Ashikhmin-Shirley and its two-lobe
  * variant, Phong, Blinn-Phong) and of the microfacet form (GGX,
- * Cook-Torrance and their two-lobe variants) on 1 or 3 channels, one
+ * Cook-Torrance and their two-lobe variants, Ward, Ward-Duer, and
+ * ashikhmin-shirley-fresnel with Rs in place of F0) on 1 or 3 channels, one
  * register-resident sweep per chunk. Not installed. */
 #ifndef BRDFFIT_FIT_PASS_FUSED_H
 #define BRDFFIT_FIT_PASS_FUSED_H
