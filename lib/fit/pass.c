@@ -39,26 +39,22 @@ void bf_pass_prepare(bf_problem *pb)
         }
 }
 
-/* The route that accumulates passes of this kind. Only the generic route
- * transforms residuals, so under another objective than the squares it
- * takes COST and NORMAL; VARPRO is the squares of values whatever the
- * objective and keeps the problem's route. */
+/* The route that accumulates passes of this kind: the problem's when it
+ * takes the kind, else the generic route. SANDWICH needs each row's
+ * Jacobian and always takes the generic route. */
 static const bf_route *route_for(const bf_problem *pb, bf_pass_kind kind)
 {
     if (kind == BF_PASS_SANDWICH) return &bf_route_generic; /* rows, one at a time */
-    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES && kind != BF_PASS_VARPRO)
-        return &bf_route_generic;
     return (pb->route->kinds & (1u << kind)) ? pb->route : &bf_route_generic;
 }
 
 /* Doubles of the routes' own scratch: the problem's route's, and the
- * generic route's when it takes COST and NORMAL or SANDWICH (METRICS needs
- * none of it). */
+ * generic route's when SANDWICH passes will run (METRICS, the other kind
+ * the basis route leaves to it, needs none of it). */
 static size_t own_size(const bf_problem *pb)
 {
     size_t own = pb->route->scratch_size(pb), generic = 0;
-    if (pb->objective != BRDFFIT_OBJECTIVE_SQUARES || pb->sandwich)
-        generic = bf_route_generic.scratch_size(pb);
+    if (pb->sandwich) generic = bf_route_generic.scratch_size(pb);
     return own > generic ? own : generic;
 }
 
@@ -140,6 +136,38 @@ static void load_measured(const bf_problem *pb, const brdffit_batch *batch, size
         if (pb->clearcoat > 0.0)
             for (s = 0; s < n; s++)
                 meas[s] *= 1.0 / bf_grid_coat_divisor(pb->clearcoat, batch->lz[s]);
+    }
+}
+
+size_t bf_pass_terms_size(const bf_problem *pb)
+{
+    const size_t n = pb->grid->n_samples;
+    switch (pb->objective) {
+    case BRDFFIT_OBJECTIVE_LOG:
+    case BRDFFIT_OBJECTIVE_RELATIVE: return pb->nc * n;
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT: return (pb->nc + 1) * n;
+    case BRDFFIT_OBJECTIVE_SQUARES: break;
+    }
+    return 0;
+}
+
+void bf_pass_terms(const bf_problem *pb, double *terms)
+{
+    const size_t ns = pb->grid->n_samples;
+    bf_scratch sc;
+    size_t first, n, m;
+    if (bf_pass_terms_size(pb) == 0) return;
+    scratch_carve(&sc, pb->work, pb, 0);
+    for (first = 0; first < ns; first += n) {
+        brdffit_batch batch;
+        n = ns - first < BF_CHUNK ? ns - first : BF_CHUNK;
+        bf_grid_batch(pb->grid, first, n, &batch);
+        load_measured(pb, &batch, first, &sc);
+        for (m = 0; m < pb->nc; m++)
+            bf_objective_terms(pb, sc.meas + m * n, batch.lz, n, terms + m * ns + first,
+                               m == 0 && pb->objective == BRDFFIT_OBJECTIVE_CUBE_ROOT
+                                   ? terms + pb->nc * ns + first
+                                   : NULL);
     }
 }
 

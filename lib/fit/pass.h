@@ -27,10 +27,10 @@
  *
  * How a chunk is accumulated is a route (fit/pass_route.h): the basis route
  * for models in basis form (models/basis.h) on grids without missing
- * values, for every pass under the squares objective and for VARPRO (the
- * squares of values) under any; the generic route for any model and
- * objective. bf_pass_prepare() chooses it once per problem; SANDWICH needs
- * each row's Jacobian and always takes the generic route. */
+ * values, for COST, NORMAL and VARPRO under every objective; the generic
+ * route for any model and objective, and for METRICS. bf_pass_prepare()
+ * chooses it once per problem; SANDWICH needs each row's Jacobian and
+ * always takes the generic route. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
@@ -84,6 +84,11 @@ typedef struct bf_problem {
     int sandwich;                  /* SANDWICH passes will be run (the generic route's
                                     * scratch is sized in whatever the route) */
     const double *bread;           /* SANDWICH: n_vec * n_vec (J^T J)^+, borrowed */
+    const double *terms;           /* bf_pass_terms_size() doubles filled by bf_pass_terms(),
+                                    * owned by the caller: what the objective's rows take
+                                    * from the measured values and the geometry alone,
+                                    * computed once rather than in every pass; NULL under
+                                    * the squares objective, which needs none */
     /* set by bf_pass_prepare() */
     const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
     const struct bf_route *route;  /* how chunks are accumulated */
@@ -101,6 +106,16 @@ void bf_pass_prepare(bf_problem *pb);
 
 /* Doubles of workspace a pass of any kind needs (all threads together). */
 size_t bf_pass_work_size(const bf_problem *pb);
+
+/* Doubles of the objective's terms (pb->terms): 0 under the squares
+ * objective; nc per sample under log and relative, nc + 1 under cube-root
+ * ([m * n_samples + s] for model channel m, then cbrt(cos theta_i)). */
+size_t bf_pass_terms_size(const bf_problem *pb);
+
+/* Fill the objective's terms for every sample of the grid; call after
+ * `work` is set (it loads the measured values in the first thread's
+ * scratch), then set pb->terms = terms. */
+void bf_pass_terms(const bf_problem *pb, double *terms);
 
 /* Size of the accumulator of a pass, in doubles. */
 size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind);

@@ -12,7 +12,15 @@
  * each basis function once per sample, NE (NE + 1) / 2 + nc (NE + 1) dot
  * products per block, and never expands the Jacobian per channel. The cost
  * and J^T r are still sums of directly computed residuals: nothing cancels
- * near an exact fit. */
+ * near an exact fit.
+ *
+ * Under an objective other than the squares (brdffit_objective) COST and
+ * NORMAL transform each channel's rows (bf_objective_rows()): the residual
+ * r_c = w T(value_c, measured_c) and the row factor f_c = w dT/dvalue_c,
+ * which differs per channel. Channel c's Jacobian row is f_c times the
+ * extended basis (times a colour), so the sums become per channel,
+ * G_cab = sum f_c^2 E_a E_b and H_ca = sum f_c E_a r_c, nc (NE (NE + 1) / 2
+ * + NE + 1) dot products per block; VARPRO stays the squares of values. */
 #include <string.h>
 
 #include "core/core.h"
@@ -55,6 +63,19 @@ int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind)
     return bf_fused_in_place(pb, kind);
 }
 
+/* Whether COST and NORMAL transform their rows (see the file comment). */
+static int transformed(const bf_problem *pb)
+{
+    return pb->objective != BRDFFIT_OBJECTIVE_SQUARES;
+}
+
+/* Gram matrices of NORMAL: one shared by the channels, or one per channel
+ * when the rows are transformed. */
+static size_t gram_count(const bf_problem *pb)
+{
+    return transformed(pb) ? pb->nc : 1;
+}
+
 static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
 {
     ebasis eb;
@@ -62,7 +83,7 @@ static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
     ebasis_of(pb->kernel, &eb);
     switch (kind) {
     case BF_PASS_COST: return 1;
-    case BF_PASS_NORMAL: return 1 + eb.NE * eb.NE + pb->nc * eb.NE;
+    case BF_PASS_NORMAL: return 1 + gram_count(pb) * eb.NE * eb.NE + pb->nc * eb.NE;
     case BF_PASS_VARPRO: return eb.L * eb.L + pb->nc * (eb.L + 1);
     case BF_PASS_METRICS:
     case BF_PASS_SANDWICH: break; /* the generic route's */
@@ -73,10 +94,11 @@ static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
 static size_t basis_scratch_size(const bf_problem *pb)
 {
     /* the basis block, the weighted functions u_a = w E_a (at most
-     * L (1 + K) of them) and one residual block */
+     * L (1 + K) of them), one residual block, and the values and row
+     * factors of transformed rows */
     if (bf_fused_serves(pb, BF_PASS_NORMAL)) return 0; /* the fused loop needs none */
     return sizeof(bf_basis) / sizeof(double) +
-           (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) + 1) * BF_KERNEL_BLOCK;
+           (BF_KERNEL_MAX_LINEAR * (1 + BF_KERNEL_MAX_SHAPE) + 3) * BF_KERNEL_BLOCK;
 }
 
 /* Colour p_{m,c} of the parameter vector. */
@@ -99,6 +121,24 @@ static void residuals(const bf_problem *pb, const double *params, const ebasis *
         for (i = 0; i < count; i++) dw[i] += p * b[i];
     }
     for (i = 0; i < count; i++) dw[i] *= w[i];
+}
+
+/* Channel c's transformed rows over a block (see the file comment): the
+ * residuals into dw, the row factors into f, the model's values into val. */
+static void transformed_rows(const bf_problem *pb, const double *params, const ebasis *eb,
+                             const bf_basis *bs, const bf_scratch *sc, const double *lz, size_t n,
+                             size_t off, size_t count, size_t c, double *restrict val,
+                             double *restrict f, double *restrict dw)
+{
+    size_t m, i;
+    for (i = 0; i < count; i++) val[i] = 0.0;
+    for (m = 0; m < eb->L; m++) {
+        const double p = colour(pb, params, eb->K, m, c);
+        const double *restrict b = bs->b[m];
+        for (i = 0; i < count; i++) val[i] += p * b[i];
+    }
+    memcpy(f, sc->w + off, count * sizeof *f);
+    bf_objective_rows(pb, c, sc->first + off, sc->meas + c * n + off, val, lz + off, count, dw, f);
 }
 
 /* u_a = w E_a for every function of the extended basis. */
@@ -136,13 +176,40 @@ static void block_normal(const bf_problem *pb, const double *params, const ebasi
     }
 }
 
-static void block_cost(const bf_problem *pb, const double *params, const ebasis *eb,
-                       const bf_basis *bs, const bf_scratch *sc, size_t n, size_t off, size_t count,
-                       double *dw)
+/* NORMAL of transformed rows: per-channel G_c and H_c. */
+static void block_normal_transformed(const bf_problem *pb, const double *params,
+                                     const ebasis *eb, const bf_basis *bs, const bf_scratch *sc,
+                                     const double *lz, size_t n, size_t off, size_t count,
+                                     double *u, double *dw)
 {
+    const size_t NE = eb->NE;
+    double *acc = sc->acc, *H = acc + 1 + pb->nc * NE * NE;
+    double *val = dw + BF_KERNEL_BLOCK, *f = val + BF_KERNEL_BLOCK;
+    size_t a, b, c;
+    for (c = 0; c < pb->nc; c++) {
+        double *G = acc + 1 + c * NE * NE;
+        transformed_rows(pb, params, eb, bs, sc, lz, n, off, count, c, val, f, dw);
+        acc[0] += bf_dot(dw, dw, count);
+        weighted_basis(eb, bs, f, count, u);
+        for (a = 0; a < NE; a++) {
+            for (b = a; b < NE; b++)
+                G[a * NE + b] += bf_dot(u + a * BF_KERNEL_BLOCK, u + b * BF_KERNEL_BLOCK, count);
+            H[c * NE + a] += bf_dot(u + a * BF_KERNEL_BLOCK, dw, count);
+        }
+    }
+}
+
+static void block_cost(const bf_problem *pb, const double *params, const ebasis *eb,
+                       const bf_basis *bs, const bf_scratch *sc, const double *lz, size_t n,
+                       size_t off, size_t count, double *dw)
+{
+    double *val = dw + BF_KERNEL_BLOCK, *f = val + BF_KERNEL_BLOCK;
     size_t c;
     for (c = 0; c < pb->nc; c++) {
-        residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
+        if (transformed(pb))
+            transformed_rows(pb, params, eb, bs, sc, lz, n, off, count, c, val, f, dw);
+        else
+            residuals(pb, params, eb, bs, sc, n, off, count, c, dw);
         sc->acc[0] += bf_dot(dw, dw, count);
     }
 }
@@ -188,8 +255,12 @@ static brdffit_status basis_chunk(const bf_problem *pb, bf_pass_kind kind, const
     for (off = 0; off < n; off += count) {
         count = n - off < BF_KERNEL_BLOCK ? n - off : BF_KERNEL_BLOCK;
         bf_kernel_basis(k, batch, off, count, params, bs);
-        if (kind == BF_PASS_NORMAL) block_normal(pb, params, &eb, bs, sc, n, off, count, u, dw);
-        else if (kind == BF_PASS_COST) block_cost(pb, params, &eb, bs, sc, n, off, count, dw);
+        if (kind == BF_PASS_NORMAL && transformed(pb))
+            block_normal_transformed(pb, params, &eb, bs, sc, batch->lz, n, off, count, u, dw);
+        else if (kind == BF_PASS_NORMAL)
+            block_normal(pb, params, &eb, bs, sc, n, off, count, u, dw);
+        else if (kind == BF_PASS_COST)
+            block_cost(pb, params, &eb, bs, sc, batch->lz, n, off, count, dw);
         else block_varpro(pb, &eb, bs, sc, n, off, count, u, dw);
     }
     return BRDFFIT_OK;
@@ -200,17 +271,20 @@ static double sym(const double *G, size_t NE, size_t a, size_t b)
     return a <= b ? G[a * NE + b] : G[b * NE + a];
 }
 
-/* J^T J and J^T r in the vector layout from G and H (see the file comment). */
+/* J^T J and J^T r in the vector layout from G and H (see the file comment;
+ * G is channel c's own when the rows are transformed). */
 static void finish_normal(const bf_problem *pb, const double *params, const ebasis *eb,
                           const double *bacc, double *acc)
 {
     const size_t nv = pb->ly.n_vec, nc = pb->nc, K = eb->K, L = eb->L, NE = eb->NE;
-    const double *G = bacc + 1, *H = bacc + 1 + NE * NE;
+    const size_t ng = gram_count(pb);
+    const double *H = bacc + 1 + ng * NE * NE;
     double *jtr = acc + 1, *jtj = acc + 1 + nv;
     size_t s, t, m, q, c;
     memset(acc, 0, (1 + nv + nv * nv) * sizeof *acc);
     acc[0] = bacc[0];
     for (c = 0; c < nc; c++) {
+        const double *G = bacc + 1 + (ng > 1 ? c : 0) * NE * NE;
         for (m = 0; m < L; m++) {
             size_t im = pb->vindex[(K + m) * nc + c];
             jtr[im] = H[c * NE + m];

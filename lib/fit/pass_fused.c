@@ -186,6 +186,7 @@ static size_t lobes_of(const bf_problem *pb)
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
 {
     return pb->lobe > 0 && kind != BF_PASS_METRICS && kind != BF_PASS_SANDWICH &&
+           (pb->objective == BRDFFIT_OBJECTIVE_SQUARES || kind == BF_PASS_VARPRO) &&
            (pb->nc == 1 || pb->nc == 3) && lobes_of(pb) <= MAX_LOBES &&
            (pb->mf == BF_MF_NONE || lobes_of(pb) >= 1) &&
            (has_f0(pb->mf) || pb->mf == BF_MF_NONE || lobes_of(pb) == 1);

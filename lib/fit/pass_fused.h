@@ -29,7 +29,9 @@ void bf_fused_prepare(bf_problem *pb);
 
 /* Whether the fused loop accumulates the problem's passes of this kind
  * (COST, NORMAL, VARPRO of a kernel of the lobe form or the microfacet
- * form with at most two lobes and 1 or 3 channels; the
+ * form with at most two lobes and 1 or 3 channels; COST and NORMAL under
+ * the squares objective only, VARPRO under any, as it sums squared values;
+ * the
  * basis route's own checks, a kernel and no missing values, come first). */
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind);
 

@@ -45,45 +45,70 @@ static void weighted_residuals(const bf_scratch *sc, size_t m, size_t n, double 
     for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
 }
 
-/* Objective residuals rd = rw r(value, measured) of channel m
- * (brdffit_objective in fit.h), and the row factors rw dr/dM into rw (in
- * place); c = max(cos theta_i, 0). One branch-free loop per objective,
- * with the vectorisable cube root and logarithm of core/fastmath.h, so the
- * loops vectorise; a row of weight 0 (outside the fit or missing) gives 0. */
+/* bf_objective_terms() of pass_route.h. */
 BF_VECTOR_CLONES
-static void objective_rows(const bf_problem *pb, const bf_scratch *sc, size_t m,
-                           const double *restrict lz, size_t n, double *restrict rd,
-                           double *restrict rw)
+void bf_objective_terms(const bf_problem *pb, const double *restrict meas,
+                        const double *restrict lz, size_t n, double *restrict tm,
+                        double *restrict tc)
 {
-    const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
-    const double delta = pb->delta, root_delta = bf_cbrt(pb->delta);
+    const double delta = pb->delta;
+    size_t s;
+    switch (pb->objective) {
+    case BRDFFIT_OBJECTIVE_LOG:
+        for (s = 0; s < n; s++) tm[s] = bf_log1p((lz[s] > 0.0 ? lz[s] : 0.0) * meas[s]);
+        return;
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT:
+        for (s = 0; s < n; s++) tm[s] = bf_cbrt((lz[s] > 0.0 ? lz[s] : 0.0) * meas[s]);
+        if (tc != NULL)
+            for (s = 0; s < n; s++) tc[s] = bf_cbrt(lz[s] > 0.0 ? lz[s] : 0.0);
+        return;
+    case BRDFFIT_OBJECTIVE_RELATIVE:
+        for (s = 0; s < n; s++) tm[s] = 1.0 / (fabs(meas[s]) + delta);
+        return;
+    case BRDFFIT_OBJECTIVE_SQUARES: break;
+    }
+}
+
+/* bf_objective_rows() of pass_route.h: one branch-free loop per
+ * objective, with the vectorisable cube root and logarithm of
+ * core/fastmath.h, so the loops vectorise; what depends on the measured
+ * value and the geometry alone comes from the problem's terms. */
+BF_VECTOR_CLONES
+void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const double *restrict meas,
+                       const double *restrict val, const double *restrict lz, size_t n,
+                       double *restrict rd, double *restrict rw)
+{
+    const size_t ns = pb->grid->n_samples;
+    const double *restrict tm = pb->terms + m * ns + first;
     size_t s;
     switch (pb->objective) {
     case BRDFFIT_OBJECTIVE_LOG:
         for (s = 0; s < n; s++) {
             double c = lz[s] > 0.0 ? lz[s] : 0.0, on = rw[s] != 0.0 ? 1.0 : 0.0;
-            double cv = on * c * val[s], cm = on * c * meas[s];
-            rd[s] = rw[s] * (bf_log1p(cv) - bf_log1p(cm));
+            double cv = on * c * val[s];
+            rd[s] = rw[s] * (bf_log1p(cv) - tm[s]);
             rw[s] *= c / (1.0 + cv);
         }
         return;
-    case BRDFFIT_OBJECTIVE_CUBE_ROOT:
-        /* cbrt(c M) as cbrt(c) cbrt(|M|) with M's sign, and the slope's pole
-         * at M = 0 floored at |M| = delta: cbrt is monotonic, so the floor
-         * is max(cbrt |M|, cbrt delta) */
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT: {
+        /* cbrt(c R) as cbrt(c) cbrt(|R|) with R's sign, and the slope's pole
+         * at R = 0 floored at |R| = delta: cbrt is monotonic, so the floor
+         * is max(cbrt |R|, cbrt delta) */
+        const double root_delta = bf_cbrt(pb->delta);
+        const double *restrict tc = pb->terms + pb->nc * ns + first;
         for (s = 0; s < n; s++) {
-            double c = lz[s] > 0.0 ? lz[s] : 0.0, on = rw[s] != 0.0 ? 1.0 : 0.0;
-            double v = on * val[s], tv = bf_cbrt(v < 0.0 ? -v : v), cc = bf_cbrt(c);
+            double on = rw[s] != 0.0 ? 1.0 : 0.0, cc = tc[s];
+            double v = on * val[s], tv = bf_cbrt(v < 0.0 ? -v : v);
             double t = tv > root_delta ? tv : root_delta;
-            rd[s] = rw[s] * ((v < 0.0 ? -cc : cc) * tv - bf_cbrt(on * c * meas[s]));
+            rd[s] = rw[s] * ((v < 0.0 ? -cc : cc) * tv - tm[s]);
             rw[s] *= cc / (3.0 * t * t);
         }
         return;
+    }
     case BRDFFIT_OBJECTIVE_RELATIVE:
         for (s = 0; s < n; s++) {
-            double slope = 1.0 / (fabs(meas[s]) + delta);
-            rd[s] = rw[s] * (val[s] - meas[s]) * slope;
-            rw[s] *= slope;
+            rd[s] = rw[s] * (val[s] - meas[s]) * tm[s];
+            rw[s] *= tm[s];
         }
         return;
     case BRDFFIT_OBJECTIVE_SQUARES: break;
@@ -95,11 +120,12 @@ static void objective_rows(const bf_problem *pb, const bf_scratch *sc, size_t m,
  * into sc->ww, squares exactly as ever, other objectives transformed. */
 static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz, size_t n)
 {
+    const size_t first = (size_t)(lz - pb->grid->geo.lz);
     row_weights(sc, m, n, sc->ww);
     if (pb->objective == BRDFFIT_OBJECTIVE_SQUARES)
         weighted_residuals(sc, m, n, sc->d);
     else
-        objective_rows(pb, sc, m, lz, n, sc->d, sc->ww);
+        bf_objective_rows(pb, m, first, sc->meas + m * n, sc->vals + m * n, lz, n, sc->d, sc->ww);
 }
 
 static void scale_rows(double *restrict x, const double *restrict rw, size_t n)

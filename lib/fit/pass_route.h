@@ -45,6 +45,23 @@ extern const bf_route bf_route_basis;   /* pass_basis.c */
  * the basis route reads them in place (pass_fused.h). */
 int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind);
 
+/* The objective's terms of n samples that depend on the measured values
+ * and the geometry alone (pb->terms, pass.h), c = max(lz, 0): log
+ * tm = log(1 + c M); cube-root tm = cbrt(c M) and, when tc is not NULL,
+ * tc = cbrt(c); relative tm = 1 / (|M| + delta). */
+void bf_objective_terms(const bf_problem *pb, const double *meas, const double *lz, size_t n,
+                        double *tm, double *tc);
+
+/* Objective residuals rd = rw r(val, meas) of channel m's n rows from
+ * sample `first` (brdffit_objective in fit.h), and the row factors
+ * rw dr/dR into rw (in place); lz is the rows' cos theta_i, the terms come
+ * from pb->terms. rw holds each row's weight on entry; a row of weight 0
+ * (outside the fit or missing) gives 0. Under the squares objective the
+ * rows are rw (val - meas) and rw stays. The generic route and the basis
+ * route both transform their rows with it (pass_generic.c). */
+void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const double *meas,
+                       const double *val, const double *lz, size_t n, double *rd, double *rw);
+
 /* The passes' dot product is bf_dot() of core/linalg.h. */
 
 #endif /* BRDFFIT_FIT_PASS_ROUTE_H */

@@ -18,8 +18,13 @@ static brdffit_status stage_alloc(bf_stage *st, size_t n, size_t n_index, size_t
     st->logs = bf_calloc(a, n, 2);
     st->lower = bf_calloc(a, 8 * n + n_acc, sizeof(double));
     st->pb.work = bf_calloc(a, n_work, sizeof(double));
-    if (!st->vindex || !st->decl || !st->logs || !st->lower || !st->pb.work)
+    if (bf_pass_terms_size(&st->pb) > 0)
+        st->terms = bf_calloc(a, bf_pass_terms_size(&st->pb), sizeof(double));
+    if (!st->vindex || !st->decl || !st->logs || !st->lower || !st->pb.work ||
+        (bf_pass_terms_size(&st->pb) > 0 && !st->terms))
         return BRDFFIT_E_OUT_OF_MEMORY;
+    bf_pass_terms(&st->pb, st->terms);
+    st->pb.terms = st->terms;
     st->fixed = st->logs + n;
     st->upper = st->lower + n;
     st->olower = st->lower + 2 * n;
@@ -141,6 +146,7 @@ void bf_stage_free(bf_stage *st)
     bf_free(a, st->logs);
     bf_free(a, st->lower);
     bf_free(a, st->pb.work);
+    bf_free(a, st->terms);
     bf_free(a, st->cov);
     memset(st, 0, sizeof *st);
 }

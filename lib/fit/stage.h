@@ -39,6 +39,7 @@ typedef struct bf_stage {
     double *x;              /* n: optimiser-space point of the LM run */
     double *shown;          /* n: natural point shown to the user's callback */
     double *acc;            /* accumulator of any pass */
+    double *terms;          /* the objective's terms (pb.terms), NULL under squares */
     double *cov;            /* n * n: covariance of the last LM run's result (natural
                              * units, as its standard errors); made by bf_stage_lm */
     double cost;            /* final cost of the last LM run */
