@@ -15,7 +15,7 @@
 
 #include "fit/pass.h"
 #include "fit/pass_fused.h"
-#include "grid_fixtures.h"
+#include "pass_fixtures.h"
 #include "test_support.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -32,38 +32,18 @@ typedef struct setup {
     int lobe; /* pb.lobe as bf_pass_prepare() set it */
 } setup;
 
-/* The default axes with fx_value() measurements on nc channels. */
-static brdffit_grid *make_grid(size_t nc)
-{
-    const brdffit_axes *axes = brdffit_axes_default();
-    double *v = fx_values(axes, nc);
-    brdffit_grid *g = NULL;
-    assert_non_null(v);
-    assert_int_equal(brdffit_grid_create_regular(&g, axes, nc, v, NULL, NULL, NULL), BRDFFIT_OK);
-    free(v);
-    return g;
-}
-
 static void setup_init(setup *s, const char *model, size_t nc, bf_source source, double coat,
                        double cap_deg)
 {
     bf_problem *pb = &s->pb;
     size_t k, size;
     memset(s, 0, sizeof *s);
-    s->grid = make_grid(3);
+    s->grid = fx_pass_grid(3);
     assert_int_equal(brdffit_model_create(&s->model, model, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(bf_weight_plan_init(&s->plan, s->grid, cap_deg * DEG2RAD,
                                          BRDFFIT_WEIGHT_DEFAULT, &s->grid->alloc, NULL),
                      BRDFFIT_OK);
-    pb->grid = s->grid;
-    pb->model = s->model;
-    pb->plan = &s->plan;
-    pb->plan_sa = &s->plan;
-    pb->nc = nc;
-    pb->source = source;
-    pb->clearcoat = coat;
-    pb->threads = 1;
-    bf_layout_init(&pb->ly, s->model, nc);
+    fx_pass_problem(pb, s->grid, s->model, &s->plan, nc, source, coat);
     assert_true(pb->ly.n_vec <= 16 && brdffit_model_param_count(s->model) * nc <= 32);
     bf_layout_entries(&pb->ly, s->model, s->vindex, NULL);
     pb->vindex = s->vindex;

@@ -13,7 +13,7 @@
 
 #include "fit/pass.h"
 #include "fit/pass_route.h"
-#include "grid_fixtures.h"
+#include "pass_fixtures.h"
 #include "test_support.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -28,17 +28,6 @@ typedef struct setup {
     double params[32];
     double *work, *terms;
 } setup;
-
-static brdffit_grid *make_grid(void)
-{
-    const brdffit_axes *axes = brdffit_axes_default();
-    double *v = fx_values(axes, 3);
-    brdffit_grid *g = NULL;
-    assert_non_null(v);
-    assert_int_equal(brdffit_grid_create_regular(&g, axes, 3, v, NULL, NULL, NULL), BRDFFIT_OK);
-    free(v);
-    return g;
-}
 
 /* Each declared parameter at its start value, a per-channel one 10 % apart
  * per channel, inside its bounds. */
@@ -62,22 +51,14 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     bf_problem *pb = &s->pb;
     size_t size;
     memset(s, 0, sizeof *s);
-    s->grid = make_grid();
+    s->grid = fx_pass_grid(3);
     assert_int_equal(brdffit_model_create(&s->model, model, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(bf_weight_plan_init(&s->plan, s->grid, 80.0 * DEG2RAD,
                                          BRDFFIT_WEIGHT_DEFAULT, &s->grid->alloc, NULL),
                      BRDFFIT_OK);
-    pb->grid = s->grid;
-    pb->model = s->model;
-    pb->plan = &s->plan;
-    pb->plan_sa = &s->plan;
-    pb->nc = nc;
-    pb->source = source;
-    pb->clearcoat = coat;
+    fx_pass_problem(pb, s->grid, s->model, &s->plan, nc, source, coat);
     pb->objective = objective;
     pb->delta = 1e-3;
-    pb->threads = 1;
-    bf_layout_init(&pb->ly, s->model, nc);
     assert_true(pb->ly.n_vec <= 32 && brdffit_model_param_count(s->model) * nc <= 64);
     bf_layout_entries(&pb->ly, s->model, s->vindex, NULL);
     pb->vindex = s->vindex;
