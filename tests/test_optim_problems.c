@@ -420,7 +420,7 @@ static void exp_combo(const optim_problem *pb, void *user, const run_cfg *cfg)
 static void test_exp_fit(void **state)
 {
     optim_fit_data d;
-    optim_problem pb = {"exp", 3, 0, {1.0, 0.1, 0.0}, optim_exp_fit};
+    optim_problem pb = {"exp", 3, 0, {1.0, 0.1, 0.0}, optim_exp_fit, 0, {-1.0, -1.0}};
     (void)state;
     optim_make_exp_data(&d);
     pb.n_rows = d.n;
@@ -440,7 +440,8 @@ static void rational_combo(const optim_problem *pb, void *user, const run_cfg *c
 static void test_rational_fit(void **state)
 {
     optim_fit_data d;
-    optim_problem pb = {"rational", 4, 0, {1.0, 1.0, 0.1, 0.1}, optim_rational_fit};
+    optim_problem pb = {"rational",         4, 0,           {1.0, 1.0, 0.1, 0.1},
+                        optim_rational_fit, 0, {-1.0, -1.0}};
     (void)state;
     optim_make_rational_data(&d);
     pb.n_rows = d.n;
@@ -452,7 +453,8 @@ static void test_rational_fit(void **state)
 static void test_fits_agree_across_combinations(void **state)
 {
     optim_fit_data d;
-    optim_problem pb = {"rational", 4, 0, {1.0, 1.0, 0.1, 0.1}, optim_rational_fit};
+    optim_problem pb = {"rational",         4, 0,           {1.0, 1.0, 0.1, 0.1},
+                        optim_rational_fit, 0, {-1.0, -1.0}};
     run_cfg cfg = {2, 0, 1, 1000, 0.0, 0};
     run_out ref, out;
     size_t j;
