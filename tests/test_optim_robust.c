@@ -100,8 +100,8 @@ typedef struct config {
 } config;
 
 static const config configs[4] = {
-    {"memory 0, step 0", 0.0, 0.0},
     {"memory 1, step 0", 1.0, 0.0},
+    {"memory 0, step 0", 0.0, 0.0},
     {"memory 0, step 1", 0.0, 1.0},
     {"memory 1, step 1", 1.0, 1.0},
 };
@@ -188,13 +188,13 @@ static tally mgh_tally(const config *cf, const brdffit_damping *policy, int verb
 
 /* Every configuration under every policy, as a table (docs/nist-strd.md
  * quotes it). BRDFFIT_TEST_QUICK (the valgrind runs): the default policy
- * only. The default settings keep all 54 StRD runs and 27 of the 33 MGH
- * runs (measured: the unsolved ones are Box 3-D from 10 and 100 x0,
- * stalled; Jennrich-Sampson from 100 x0, whose start overflows; Beale
- * from 10 and 100 x0 and Bard from 100 x0, at other stationary points).
- * The running maximum of the scaling loses MGH10 (Meyer) from its first
- * start; the scaled step test stops Brown's badly scaled problem early
- * (x2 = 2e-6 is invisible next to x1 = 1e6 in the norm). */
+ * only. The default (the running maximum of diag(J^T J), restarted when
+ * every entry is stale; per-parameter step test) solves all 54 StRD runs
+ * and 90 of the 105 MGH runs: 144 in all, against 140 for the best peer
+ * of bench_certified (MINPACK's lmder 53 + 87, GSL's lmaccel 52 + 88).
+ * The scaling of the current point (memory 0) solves 54 + 82: it loses
+ * Penalty I and II from every start (their parameters pass through zero
+ * and lose their damping) and Box 3-D from 10 x0. */
 static void test_table(void **state)
 {
     static const char *names[3] = {"nielsen", "marquardt", "thesis"};
@@ -224,7 +224,8 @@ static void test_table(void **state)
         assert_int_equal(b.evaluations, def_mgh.evaluations);
     }
     assert_int_equal(def_nist.solved, 54);
-    assert_true(def_mgh.solved >= 27);
+    assert_true(def_mgh.solved >= 90);
+    assert_true(def_nist.solved + def_mgh.solved >= 140);
 }
 
 /* The two settings take 0 and 1 only, and read back what was set. */
@@ -234,13 +235,13 @@ static void test_settings(void **state)
     double v = -1.0;
     (void)state;
     assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_SCALE_MEMORY, &v), BRDFFIT_OK);
-    assert_true(v == 0.0);
+    assert_true(v == 1.0);
     assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_STEP_TEST, &v), BRDFFIT_OK);
     assert_true(v == 0.0);
-    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALE_MEMORY, 1.0), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALE_MEMORY, 0.0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_TEST, 1.0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_SCALE_MEMORY, &v), BRDFFIT_OK);
-    assert_true(v == 1.0);
+    assert_true(v == 0.0);
     assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_STEP_TEST, &v), BRDFFIT_OK);
     assert_true(v == 1.0);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALE_MEMORY, 2.0),
@@ -254,12 +255,64 @@ static void test_settings(void **state)
     brdffit_optimizer_destroy(opt);
 }
 
+static const optim_problem *mgh_named(const char *name)
+{
+    size_t n, k;
+    const optim_problem *set = optim_mgh_set(&n);
+    for (k = 0; k < n && strcmp(set[k].name, name) != 0; k++) continue;
+    assert_true(k < n);
+    return &set[k];
+}
+
+/* The default's run of problem name from factor x0: its stop reason and
+ * final cost. */
+static brdffit_stop_reason default_run(const char *name, double factor, double *cost)
+{
+    const optim_problem *pb = mgh_named(name);
+    brdffit_optimizer *opt = make(pb->n_params, NULL, NULL);
+    brdffit_stop_reason stop;
+    double x[OPTIM_MAX_PARAMS];
+    size_t j;
+    assert_int_equal(brdffit_optimizer_set_residuals(opt, pb->n_rows, pb->fn, (void *)pb),
+                     BRDFFIT_OK);
+    for (j = 0; j < pb->n_params; j++) x[j] = factor * pb->x0[j];
+    assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
+    stop = brdffit_optimizer_stop_reason(opt);
+    *cost = brdffit_optimizer_final_cost(opt);
+    assert_int_equal(brdffit_optimizer_converged(opt), stop != BRDFFIT_STOP_STALLED &&
+                                                           stop != BRDFFIT_STOP_MAX_ITERATIONS &&
+                                                           stop != BRDFFIT_STOP_MAX_EVALUATIONS);
+    brdffit_optimizer_destroy(opt);
+    return stop;
+}
+
+/* Degenerate points are not reported as converged, genuine minima are.
+ * Gulf from 100 x0: every exponential underflows at the start, the
+ * Jacobian is zero, nothing moves (cost 32.835, the sum of t_i^2):
+ * stalled. The Gaussian from x0 ends at its minimum with x3 near zero:
+ * converged (a parameter near zero is no vanished column; the stall test
+ * once took it for one). The linear function of rank 1 with zero columns
+ * ends at its minimum with two parameters the problem never depends on:
+ * stalled, as the point is no unique solution (the cost is the minimum). */
+static void test_degenerate_points(void **state)
+{
+    double cost;
+    (void)state;
+    assert_int_equal(default_run("gulf", 100.0, &cost), BRDFFIT_STOP_STALLED);
+    assert_true(cost > 30.0);
+    assert_true(default_run("gaussian", 1.0, &cost) != BRDFFIT_STOP_STALLED);
+    assert_true(optim_mgh_solved(mgh_named("gaussian"), cost));
+    assert_int_equal(default_run("linear_rank1_zero", 1.0, &cost), BRDFFIT_STOP_STALLED);
+    assert_true(optim_mgh_solved(mgh_named("linear_rank1_zero"), cost));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_minima_match_paper),
         cmocka_unit_test(test_jacobians),
         cmocka_unit_test(test_settings),
+        cmocka_unit_test(test_degenerate_points),
         cmocka_unit_test(test_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -310,7 +310,7 @@ static brdffit_status attempt(lm_run *run, brdffit_stop_reason *stop)
         BF_RETURN_IF_ERROR(iterate(run, stop));
     }
     bf_optim_mark_analysed(run->opt);
-    *stop = bf_optim_classify(run->opt, *stop);
+    *stop = bf_optim_classify(run->opt, *stop, run->cost);
     return BRDFFIT_OK;
 }
 

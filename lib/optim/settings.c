@@ -11,7 +11,7 @@
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
 static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
-                                                   5000,  12000, 1,     0,     0,     0};
+                                                   10000, 24000, 1,     0,     1,     0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
