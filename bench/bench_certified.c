@@ -17,7 +17,8 @@
  * the calls for residuals alone, and J, those for the Jacobian (with the
  * residuals for libbrdffit and Ceres, alone for MINPACK and GSL).
  *
- * Settings: libbrdffit its defaults; MINPACK lmder ftol 1e-15, xtol
+ * Settings: libbrdffit its defaults, and once more with
+ * BRDFFIT_OPT_STEP_CONTROL 1 ("lib+control", not a peer); MINPACK lmder ftol 1e-15, xtol
  * 1e-10, gtol 0, at most 12000 evaluations, its own scaling (mode 1);
  * GSL gsl_multifit_nlinear with the trust-region subproblems lm, lmaccel
  * and ddogleg, Moré's scaling (its default), Cholesky, xtol 1e-10, gtol
@@ -102,18 +103,30 @@ static int solved(const cproblem *cp, const double *x)
 
 /* ---- the solvers ------------------------------------------------------------------ */
 
-static void run_libbrdffit(cproblem *cp, run_result *rr)
+static void run_optimizer(cproblem *cp, run_result *rr, int step_control)
 {
     brdffit_optimizer *opt = NULL;
     if (brdffit_optimizer_create(&opt, cp->n, NULL, NULL) != BRDFFIT_OK) return;
     memcpy(rr->x, cp->x0, cp->n * sizeof *rr->x);
-    if (brdffit_optimizer_set_residuals(opt, cp->m, counted, cp) == BRDFFIT_OK &&
+    if (brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_CONTROL, step_control) == BRDFFIT_OK &&
+        brdffit_optimizer_set_residuals(opt, cp->m, counted, cp) == BRDFFIT_OK &&
         brdffit_optimizer_run(opt, rr->x) == BRDFFIT_OK) {
         rr->converged = brdffit_optimizer_converged(opt);
         rr->iterations = brdffit_optimizer_iterations(opt);
     }
     rr->ran = 1;
     brdffit_optimizer_destroy(opt);
+}
+
+static void run_libbrdffit(cproblem *cp, run_result *rr)
+{
+    run_optimizer(cp, rr, 0);
+}
+
+/* BRDFFIT_OPT_STEP_CONTROL 1: Moré's rules on top of the policy. */
+static void run_step_control(cproblem *cp, run_result *rr)
+{
+    run_optimizer(cp, rr, 1);
 }
 
 #ifdef BENCH_HAVE_CMINPACK
@@ -233,8 +246,12 @@ typedef struct solver {
     solver_fn run; /* NULL: not built */
 } solver;
 
+/* libbrdffit's rows first: the default, then with the step control; the
+ * peers after them (OWN_ROWS). */
+#define OWN_ROWS 2
 static const solver solvers[] = {
     {"libbrdffit", run_libbrdffit},
+    {"lib+control", run_step_control},
 #ifdef BENCH_HAVE_CMINPACK
     {"minpack", run_minpack},
 #else
@@ -392,7 +409,7 @@ static void report_targets(bh_output *out, const totals *tot)
 {
     size_t s, best = 0, mine = tot[0].solved[0] + tot[0].solved[1];
     char measured[64], limit[64];
-    for (s = 1; s < N_SOLVERS; s++)
+    for (s = OWN_ROWS; s < N_SOLVERS; s++)
         if (solvers[s].run != NULL && tot[s].solved[0] + tot[s].solved[1] > best)
             best = tot[s].solved[0] + tot[s].solved[1];
     snprintf(measured, sizeof measured, "%zu", mine);

@@ -1,5 +1,6 @@
-/* Robustness of the optimizer's scaling and step-test settings
- * (BRDFFIT_OPT_SCALE_MEMORY, BRDFFIT_OPT_STEP_TEST) on certified problems:
+/* Robustness of the optimizer's scaling, step-test and step-control
+ * settings (BRDFFIT_OPT_SCALE_MEMORY, BRDFFIT_OPT_STEP_TEST,
+ * BRDFFIT_OPT_STEP_CONTROL) on certified problems:
  * the 54 NIST StRD runs and Moré-Garbow-Hillstrom problems (ACM TOMS 7,
  * 1981) from their standard start x0 and from 10 x0 and 100 x0, as MGH
  * and MINPACK's test driver run them, for every built-in damping policy.
@@ -96,14 +97,13 @@ static void test_jacobians(void **state)
 
 typedef struct config {
     const char *label;
-    double scale_memory, step_test; /* the settings' values */
+    double scale_memory, step_test, step_control; /* the settings' values */
 } config;
 
-static const config configs[4] = {
-    {"memory 1, step 0", 1.0, 0.0},
-    {"memory 0, step 0", 0.0, 0.0},
-    {"memory 0, step 1", 0.0, 1.0},
-    {"memory 1, step 1", 1.0, 1.0},
+static const config configs[5] = {
+    {"memory 1, step 0", 1.0, 0.0, 0.0},    {"memory 0, step 0", 0.0, 0.0, 0.0},
+    {"memory 0, step 1", 0.0, 1.0, 0.0},    {"memory 1, step 1", 1.0, 1.0, 0.0},
+    {"memory 1, control 1", 1.0, 0.0, 1.0},
 };
 
 typedef struct tally {
@@ -119,6 +119,8 @@ static brdffit_optimizer *make(size_t p, const config *cf, const brdffit_damping
         assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALE_MEMORY, cf->scale_memory),
                          BRDFFIT_OK);
         assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_TEST, cf->step_test),
+                         BRDFFIT_OK);
+        assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_CONTROL, cf->step_control),
                          BRDFFIT_OK);
     }
     return opt;
@@ -200,19 +202,20 @@ static void test_table(void **state)
     static const char *names[3] = {"nielsen", "marquardt", "thesis"};
     const brdffit_damping *pol[3];
     size_t c, k, n_pol = getenv("BRDFFIT_TEST_QUICK") ? 1 : 3;
-    tally def_nist = {0, 0}, def_mgh = {0, 0};
+    tally def_nist = {0, 0}, def_mgh = {0, 0}, ctl_nist = {0, 0}, ctl_mgh = {0, 0};
     (void)state;
     pol[0] = brdffit_damping_nielsen();
     pol[1] = brdffit_damping_marquardt();
     pol[2] = brdffit_damping_thesis();
     printf("policy     settings            StRD solved/54 (evals)   MGH solved/105 (evals)\n");
     for (k = 0; k < n_pol; k++) {
-        for (c = 0; c < 4; c++) {
+        for (c = 0; c < 5; c++) {
             tally a = nist_tally(&configs[c], pol[k], k == 0);
             tally b = mgh_tally(&configs[c], pol[k], k == 0);
             printf("%-10s %-18s %8zu (%6zu)          %8zu (%6zu)\n", names[k], configs[c].label,
                    a.solved, a.evaluations, b.solved, b.evaluations);
             if (k == 0 && c == 0) def_nist = a, def_mgh = b;
+            if (k == 0 && c == 4) ctl_nist = a, ctl_mgh = b;
         }
     }
     /* the defaults are configuration 0 under Nielsen's policy */
@@ -226,6 +229,10 @@ static void test_table(void **state)
     assert_int_equal(def_nist.solved, 54);
     assert_true(def_mgh.solved >= 90);
     assert_true(def_nist.solved + def_mgh.solved >= 140);
+    /* the step control trades MGH runs: Jennrich-Sampson from 10 x0 and
+     * Chebyquad from 100 x0 for the Gaussian and Box 3-D from 100 x0 */
+    assert_int_equal(ctl_nist.solved, 54);
+    assert_true(ctl_mgh.solved >= 90);
 }
 
 /* The two settings take 0 and 1 only, and read back what was set. */
@@ -252,6 +259,14 @@ static void test_settings(void **state)
     assert_non_null(strstr(brdffit_optimizer_message(opt), "step test"));
     assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_STEP_TEST, &v), BRDFFIT_OK);
     assert_true(v == 1.0); /* a refused value changes nothing */
+    assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_STEP_CONTROL, &v), BRDFFIT_OK);
+    assert_true(v == 0.0);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_CONTROL, 1.0), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_get(opt, BRDFFIT_OPT_STEP_CONTROL, &v), BRDFFIT_OK);
+    assert_true(v == 1.0);
+    assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_STEP_CONTROL, 3.0),
+                     BRDFFIT_E_INVALID_ARGUMENT);
+    assert_non_null(strstr(brdffit_optimizer_message(opt), "step control"));
     brdffit_optimizer_destroy(opt);
 }
 

@@ -32,6 +32,7 @@ typedef struct bf_optim_settings {
     int sandwich;     /* covariance: 1 sandwich, 0 classic */
     int scale_memory; /* 1: D keeps the largest diag(J^T J) of the run, 0: the current one */
     int step_test;    /* 0: per parameter, 1: ||D^1/2 step|| against ||D^1/2 x|| */
+    int step_control; /* 1: lambda also follows the step length (lm.c) */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {
