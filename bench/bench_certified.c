@@ -17,14 +17,16 @@
  * the calls for residuals alone, and J, those for the Jacobian (with the
  * residuals for libbrdffit and Ceres, alone for MINPACK and GSL).
  *
- * Settings: libbrdffit its defaults, and once more with
- * BRDFFIT_OPT_STEP_CONTROL 1 ("lib+control", not a peer); MINPACK lmder ftol 1e-15, xtol
- * 1e-10, gtol 0, at most 12000 evaluations, its own scaling (mode 1);
- * GSL gsl_multifit_nlinear with the trust-region subproblems lm, lmaccel
- * and ddogleg, Moré's scaling (its default), Cholesky, xtol 1e-10, gtol
- * and ftol off, 5000 iterations; Ceres (bench_ceres.cc) its
- * Levenberg-Marquardt with function, gradient and parameter tolerances
- * 1e-15, 1e-15, 1e-10 and 5000 iterations. */
+ * Settings, the same budget for all (libbrdffit's default limits):
+ * libbrdffit its defaults (10000 iterations, 24000 evaluations), and
+ * once more with BRDFFIT_OPT_STEP_CONTROL 1 ("lib+control", not a peer);
+ * MINPACK lmder ftol 1e-15, xtol 1e-10, gtol 0, at most 24000
+ * evaluations, its own scaling (mode 1); GSL gsl_multifit_nlinear with
+ * the trust-region subproblems lm, lmaccel and ddogleg, Moré's scaling
+ * (its default), Cholesky, xtol 1e-10, gtol and ftol off, 10000
+ * iterations; Ceres (bench_ceres.cc) its Levenberg-Marquardt with
+ * function, gradient and parameter tolerances 1e-15, 1e-15, 1e-10 and
+ * 10000 iterations. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -156,7 +158,7 @@ static void run_minpack(cproblem *cp, run_result *rr)
     double fvec[MAX_M], fjac[MAX_M * MAX_P], diag[MAX_P], qtf[MAX_P];
     double wa1[MAX_P], wa2[MAX_P], wa3[MAX_P], wa4[MAX_M];
     memcpy(rr->x, cp->x0, cp->n * sizeof *rr->x);
-    info = lmder(minpack_fcn, cp, m, n, rr->x, fvec, fjac, m, 1e-15, 1e-10, 0.0, 12000, diag, 1,
+    info = lmder(minpack_fcn, cp, m, n, rr->x, fvec, fjac, m, 1e-15, 1e-10, 0.0, 24000, diag, 1,
                  100.0, 0, &nfev, &njev, ipvt, qtf, wa1, wa2, wa3, wa4);
     rr->ran = 1;
     rr->converged = info >= 1 && info <= 4;
@@ -202,7 +204,7 @@ static void run_gsl(cproblem *cp, run_result *rr, const gsl_multifit_nlinear_trs
     if (w == NULL) return;
     rr->ran = 1;
     if (gsl_multifit_nlinear_init(&x0.vector, &fdf, w) == GSL_SUCCESS) {
-        status = gsl_multifit_nlinear_driver(5000, 1e-10, 1e-300, 1e-300, NULL, NULL, &info, w);
+        status = gsl_multifit_nlinear_driver(10000, 1e-10, 1e-300, 1e-300, NULL, NULL, &info, w);
         rr->converged = status == GSL_SUCCESS;
         memcpy(rr->x, gsl_multifit_nlinear_position(w)->data, cp->n * sizeof *rr->x);
         rr->iterations = gsl_multifit_nlinear_niter(w);
@@ -229,7 +231,7 @@ static void run_gsl_ddogleg(cproblem *cp, run_result *rr)
 #ifdef BENCH_HAVE_CERES
 static void run_ceres(cproblem *cp, run_result *rr)
 {
-    static const bench_ceres_settings settings = {5000, 1e-15, 1e-15, 1e-10};
+    static const bench_ceres_settings settings = {10000, 1e-15, 1e-15, 1e-10};
     bench_ceres_result res = {0, 0};
     memcpy(rr->x, cp->x0, cp->n * sizeof *rr->x);
     if (bench_ceres_solve(counted, cp, cp->n, cp->m, &settings, rr->x, &res) != 0) return;

@@ -3,8 +3,9 @@
  * stopping tests look at the last step; this one looks at the point: a
  * free parameter whose Jacobian column vanished (an exponential
  * underflowed and the parameter ran away, so the problem no longer
- * depends on it) is no solution, however small the steps. docs/optimizer.md
- * describes the test. */
+ * depends on it) is no solution, however small the steps; nor, after a
+ * small step or reduction, is a point where the undamped step still
+ * promises a real gain. docs/optimizer.md describes the tests. */
 #include <float.h>
 #include <math.h>
 

@@ -1,7 +1,8 @@
-/* Test problems for the optimizer: part of the Moré-Garbow-Hillstrom set
- * (ACM TOMS 7, 1981) and two curve fits with data made from known
- * parameters, in residual form, plus an adapter that turns any of them
- * into the normal-equation form. */
+/* Test problems for the optimizer: the least-squares problems of the
+ * Moré-Garbow-Hillstrom set (ACM TOMS 7, 1981), all 35 with their minima
+ * and six of them on their own, and two curve fits with data made from
+ * known parameters, in residual form, plus an adapter that turns any of
+ * them into the normal-equation form. */
 #ifndef BRDFFIT_OPTIM_PROBLEMS_H
 #define BRDFFIT_OPTIM_PROBLEMS_H
 
@@ -71,7 +72,8 @@ typedef struct optim_problem {
 /* A zero minimum counts as reached below this cost. */
 #define OPTIM_ZERO_COST 1e-10
 
-/* The MGH problems above, in the order declared; *count receives 6. */
+/* Six MGH problems (those above), in the order declared; *count
+ * receives 6. */
 const optim_problem *optim_mgh_problems(size_t *count);
 
 /* The whole least-squares set of Moré, Garbow and Hillstrom (1981): the 35
