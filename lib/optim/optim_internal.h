@@ -162,7 +162,10 @@ int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
 int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost);
 
 /* classify.c: parameter j's Jacobian column vanished at the current point:
- * its norm is below DBL_EPSILON times the largest of the attempt. */
+ * it is zero, or its norm is below DBL_EPSILON times the largest of the
+ * attempt, and its sensitivity to a relative change of the parameter is
+ * below DBL_EPSILON times the largest of the analysed parameters (needs
+ * bf_optim_mark_analysed()). */
 int bf_optim_vanished(const brdffit_optimizer *opt, size_t j);
 
 /* classify.c: the stop reason to report for a run that ended with stop at
