@@ -7,7 +7,12 @@
  * callback a user would write:
  *   GSL      gsl_multifit_nlinear, trust region with trs_lm and the Cholesky
  *            solver (default scaling);
- *   MINPACK  cminpack's lmder.
+ *   MINPACK  cminpack's lmder;
+ *   Ceres    its Levenberg-Marquardt (bench_ceres.cc, dense QR; function
+ *            tolerance 1e-12, parameter tolerance 1e-10, gradient test
+ *            off), when built; its evaluations are the callback's calls,
+ *            each with the residuals (at accepted points also the
+ *            Jacobian).
  * The callback: the active samples at libbrdffit's default cap (75 deg),
  * rows stacked per channel, r = w cos(theta_i) (R - M) / sum w with the
  * solid-angle weights computed here from the axes (and checked against
@@ -37,6 +42,9 @@
 #endif
 #ifdef BENCH_HAVE_CMINPACK
 #include <cminpack.h>
+#endif
+#ifdef BENCH_HAVE_CERES
+#include "bench_ceres.h"
 #endif
 
 #define PEER_PI 3.14159265358979323846
@@ -364,6 +372,45 @@ static int run_minpack(void *arg)
 }
 #endif
 
+#ifdef BENCH_HAVE_CERES
+/* The user's callback in libbrdffit's residual form, counting its calls
+ * (each computes the residuals; those with jac also the Jacobian). */
+typedef struct ceres_user {
+    const peer_problem *pp;
+    size_t calls;
+} ceres_user;
+
+static brdffit_status ceres_fn(const double *x, double *r, double *jac, void *user)
+{
+    ceres_user *cu = user;
+    const peer_problem *pp = cu->pp;
+    size_t c, s;
+    cu->calls++;
+    residuals(pp, x, r);
+    if (jac == NULL) return BRDFFIT_OK;
+    for (c = 0; c < NC; c++)
+        for (s = 0; s < pp->n; s++) jacobian_row(pp, x, c, s, jac + (c * pp->n + s) * NP);
+    return BRDFFIT_OK;
+}
+
+static int run_ceres(void *arg)
+{
+    static const bench_ceres_settings settings = {200, 1e-12, 1e-300, 1e-10};
+    solver_ctx *sc = arg;
+    ceres_user cu = {sc->pp, 0};
+    bench_ceres_result res = {0, 0};
+    double x[NP];
+    memcpy(x, sc->start, sizeof x);
+    sc->res.ok = bench_ceres_solve(ceres_fn, &cu, NP, sc->pp->rows, &settings, x, &res) == 0 &&
+                 res.converged;
+    snprintf(sc->res.message, sizeof sc->res.message, "ceres converged %d", res.converged);
+    memcpy(sc->res.x, x, sizeof x);
+    sc->res.iterations = res.iterations;
+    sc->res.evaluations = cu.calls;
+    return !sc->res.ok;
+}
+#endif
+
 /* ---- reporting -------------------------------------------------------------------------- */
 
 typedef struct peer {
@@ -388,6 +435,11 @@ static const peer peers[] = {
     {"minpack", run_minpack, 0},
 #else
     {"minpack", NULL, 0},
+#endif
+#ifdef BENCH_HAVE_CERES
+    {"ceres", run_ceres, 0},
+#else
+    {"ceres", NULL, 0},
 #endif
 };
 

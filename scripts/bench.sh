@@ -3,11 +3,12 @@
 #
 #   bash scripts/bench.sh [program options]
 #
-# 1. installs cmake, gcc, GSL and cminpack with apt-get when missing (GSL
-#    and cminpack are the peers of bench_peers);
+# 1. installs cmake, gcc, g++, GSL, cminpack and Ceres with apt-get when
+#    missing (the peers of bench_peers and bench_certified);
 # 2. configures a Release build in build-bench/ with -DBRDFFIT_BUILD_BENCH=ON
 #    (static library only; no tests, tools or examples) and builds it;
-# 3. runs bench_core, bench_fit, bench_peers, bench_scale and bench_many; the tables go
+# 3. runs bench_core, bench_fit, bench_peers, bench_certified, bench_scale and
+#    bench_many; the tables go
 #    to stdout and to build-bench/bench.txt, one JSON object per measurement
 #    to build-bench/bench.jsonl (both files are rewritten).
 # Options are handed to every program, e.g. --repeats=3 for a quick look.
@@ -22,12 +23,14 @@ packages=(
     cmake
     make
     gcc
+    g++
     libc6-dev
     libgsl-dev
     libcminpack-dev
+    libceres-dev
 )
 build=build-bench
-programs=(bench_core bench_fit bench_peers bench_scale bench_many)
+programs=(bench_core bench_fit bench_peers bench_certified bench_scale bench_many)
 jobs=2
 
 if ! install_packages bench.sh "${packages[@]}"; then

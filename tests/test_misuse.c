@@ -104,19 +104,19 @@ static void check_err_impl(brdffit_status want, brdffit_status got, const brdffi
 {
     if (got != want || e->status != want || e->message[0] == '\0' ||
         strlen(e->message) >= sizeof e->message) {
-        print_error("line %d: %s\n  returned %s, error record %s \"%s\", expected %s\n", line,
-                    call, brdffit_status_name(got), brdffit_status_name(e->status),
-                    e->message, brdffit_status_name(want));
+        print_error("line %d: %s\n  returned %s, error record %s \"%s\", expected %s\n", line, call,
+                    brdffit_status_name(got), brdffit_status_name(e->status), e->message,
+                    brdffit_status_name(want));
         _fail(__FILE__, line);
     }
 }
 
 /* A call that takes `&err` last: the exact status, recorded in err, with a
  * non-empty message. */
-#define EXPECT_ERR(code, call)                                   \
-    do {                                                         \
-        reset_err(&err);                                         \
-        check_err_impl((code), (call), &err, #call, __LINE__);   \
+#define EXPECT_ERR(code, call)                                 \
+    do {                                                       \
+        reset_err(&err);                                       \
+        check_err_impl((code), (call), &err, #call, __LINE__); \
     } while (0)
 
 /* A status-only call. */
@@ -124,15 +124,15 @@ static void check_err_impl(brdffit_status want, brdffit_status got, const brdffi
 
 /* A call on a live fit or optimizer: the exact status and a message on the
  * handle. */
-#define EXPECT_FIT(code, fit, call)                                      \
-    do {                                                                 \
-        assert_int_equal((call), (code));                                \
-        assert_string_not_equal(brdffit_fit_message(fit), "");           \
+#define EXPECT_FIT(code, fit, call)                            \
+    do {                                                       \
+        assert_int_equal((call), (code));                      \
+        assert_string_not_equal(brdffit_fit_message(fit), ""); \
     } while (0)
-#define EXPECT_OPT(code, opt, call)                                      \
-    do {                                                                 \
-        assert_int_equal((call), (code));                                \
-        assert_string_not_equal(brdffit_optimizer_message(opt), "");     \
+#define EXPECT_OPT(code, opt, call)                                  \
+    do {                                                             \
+        assert_int_equal((call), (code));                            \
+        assert_string_not_equal(brdffit_optimizer_message(opt), ""); \
     } while (0)
 
 /* ---- fixtures ----------------------------------------------------------------- */
@@ -164,9 +164,9 @@ static brdffit_grid *scattered_grid(void)
     const double ti[2] = {0.1, 0.2}, pi_[2] = {0.0, 1.0}, to[2] = {0.3, 0.4}, po[2] = {2.0, 3.0};
     const double v[2] = {0.1, 0.2};
     brdffit_grid *grid = NULL;
-    assert_int_equal(brdffit_grid_create_scattered(&grid, 2, ti, pi_, to, po, 1, v, NULL, NULL,
-                                                   NULL, NULL),
-                     BRDFFIT_OK);
+    assert_int_equal(
+        brdffit_grid_create_scattered(&grid, 2, ti, pi_, to, po, 1, v, NULL, NULL, NULL, NULL),
+        BRDFFIT_OK);
     return grid;
 }
 
@@ -265,26 +265,29 @@ static void test_grid_create_misuse(void **state)
     assert_null(g);
 
     /* scattered */
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_create_scattered(
-                                               &g, 0, ti, pi_, to, po, 1, one, NULL, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_create_scattered(
-                                               &g, 1, ti, NULL, to, po, 1, one, NULL, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_create_scattered(
-                                               &g, 1, ti, pi_, to, po, 0, one, NULL, NULL, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_grid_create_scattered(&g, 0, ti, pi_, to, po, 1, one, NULL, NULL, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_grid_create_scattered(&g, 1, ti, NULL, to, po, 1, one, NULL, NULL, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 0, one, NULL, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 1, one, NULL, NULL,
                                              &HALF_ALLOC, &err));
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_scattered(&g, 1, ti, pi_, nan1, po, 1, one, NULL,
-                                                              NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_scattered(&g, 1, ti, pi_, nan1, po, 1, one,
+                                                              NULL, NULL, NULL, &err));
     w[0] = -1.0;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 1, one, NULL,
-                                                              w, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 1, one, NULL, w, NULL, &err));
     w[0] = NAN;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 1, one, NULL,
-                                                              w, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_grid_create_scattered(&g, 1, ti, pi_, to, po, 1, one, NULL, w, NULL, &err));
     w[0] = 7.0; /* phi beyond 2 pi */
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_grid_create_scattered(&g, 1, ti, w, to, po, 1, one, NULL,
-                                                              NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_grid_create_scattered(&g, 1, ti, w, to, po, 1, one, NULL, NULL, NULL, &err));
     assert_null(g);
     free(v);
 }
@@ -304,7 +307,8 @@ static void test_grid_functions_misuse(void **state)
     assert_int_equal(brdffit_grid_missing_count(NULL), 0);
     assert_int_equal(brdffit_grid_is_missing(NULL, 0, 0), 0);
     assert_int_equal(brdffit_grid_active_count(NULL, 1.0), 0);
-    EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_axis(NULL, BRDFFIT_AXIS_THETA_I, &values, &count));
+    EXPECT(BRDFFIT_E_INVALID_ARGUMENT,
+           brdffit_grid_axis(NULL, BRDFFIT_AXIS_THETA_I, &values, &count));
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_sample_angles(NULL, 0, &ang, NULL, NULL, NULL));
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_values(NULL, 0, &values));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_weights(NULL, 1.0, 3, w, &err));
@@ -344,8 +348,7 @@ static void test_grid_functions_misuse(void **state)
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_clearcoat(&out, g, 1.0, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_clearcoat(&out, g, -0.1, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_clearcoat(&out, g, NAN, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
-               brdffit_grid_channel_mean(&out, g, &HALF_ALLOC, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_channel_mean(&out, g, &HALF_ALLOC, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_grid_clearcoat(&out, g, 0.1, &HALF_ALLOC, &err));
     assert_null(out);
     /* operations a scattered grid does not support */
@@ -425,10 +428,11 @@ static void test_load_misuse(void **state)
     assert_null(g);
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_load_csv(&g, BRDFFIT_TEST_DATA_DIR "/sample_grid.csv", &HALF_ALLOC, &err));
-    EXPECT_ERR(BRDFFIT_E_IO, brdffit_load_csv(&g, BRDFFIT_TEST_DATA_DIR "/no_such_file.csv", NULL,
-                                              &err));
+    EXPECT_ERR(BRDFFIT_E_IO,
+               brdffit_load_csv(&g, BRDFFIT_TEST_DATA_DIR "/no_such_file.csv", NULL, &err));
     assert_non_null(strstr(err.message, "no_such_file.csv"));
-    EXPECT_ERR(BRDFFIT_E_IO, brdffit_load_csv(&g, BRDFFIT_TEST_DATA_DIR, NULL, &err)); /* a directory */
+    EXPECT_ERR(BRDFFIT_E_IO,
+               brdffit_load_csv(&g, BRDFFIT_TEST_DATA_DIR, NULL, &err)); /* a directory */
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_csv_buffer(NULL, csv, 10, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_csv_buffer(&g, NULL, 10, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
@@ -441,8 +445,10 @@ static void test_load_misuse(void **state)
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_merl(&g, NULL, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_IO,
                brdffit_load_merl(&g, BRDFFIT_TEST_DATA_DIR "/no_such.binary", NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_merl_buffer(&g, NULL, 12, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_merl_buffer(NULL, csv, 12, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_load_merl_buffer(&g, NULL, 12, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_load_merl_buffer(NULL, csv, 12, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_load_merl_buffer(&g, csv, 12, NULL, &HALF_ALLOC, &err));
     EXPECT_ERR(BRDFFIT_E_FORMAT, brdffit_load_merl_buffer(&g, csv, 0, NULL, NULL, &err));
@@ -450,17 +456,18 @@ static void test_load_misuse(void **state)
     /* invalid axes are refused before any byte is read: the argument error,
      * not the file's */
     bad.n_phi_o = 0;
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad,
-                                                                    NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_load_merl(&g, BRDFFIT_TEST_DATA_DIR "/no_such.binary", &bad, NULL, &err));
     bad = *brdffit_axes_default();
     bad.theta_o = NULL;
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad,
-                                                                    NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad, NULL, &err));
     bad = *brdffit_axes_default();
     bad.n_theta_i = bad.n_theta_o = bad.n_phi_o = (size_t)1 << 22;
-    EXPECT_ERR(BRDFFIT_E_TOO_LARGE, brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_TOO_LARGE,
+               brdffit_load_merl_buffer(&g, csv, sizeof csv, &bad, NULL, &err));
     assert_null(g);
 }
 
@@ -543,7 +550,8 @@ static void test_model_create_misuse(void **state)
     destroyed = 0;
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_create_custom(NULL, &def, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_create_custom(&m, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_create_custom(&m, &def, &HALF_ALLOC, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_model_create_custom(&m, &def, &HALF_ALLOC, &err));
     def.struct_size = sizeof def - 1;
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_create_custom(&m, &def, NULL, &err));
     def.struct_size = 0;
@@ -632,10 +640,14 @@ static void test_model_functions_misuse(void **state)
     brdffit_model_destroy(NULL);
 
     /* evaluation on a grid */
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_eval_grid(NULL, g, 0, 1, p, v, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_eval_grid(as, NULL, 0, 1, p, v, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_eval_grid(as, g, 0, 1, NULL, v, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_eval_grid(as, g, 0, 1, p, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_model_eval_grid(NULL, g, 0, 1, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_model_eval_grid(as, NULL, 0, 1, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_model_eval_grid(as, g, 0, 1, NULL, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_model_eval_grid(as, g, 0, 1, p, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_model_eval_grid(as, g, 40, 9, p, v, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_model_eval_grid(as, g, 1, SIZE_MAX, p, v, NULL, &err));
@@ -657,14 +669,18 @@ static void test_model_functions_misuse(void **state)
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_model_eval_angles(NULL, 2, th, ph, th, ph, 3, p, v, NULL, &err));
     th[1] = 1.6;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
     th[1] = -0.1;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
     th[1] = 0.2;
     ph[1] = NAN;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
     ph[1] = HUGE_VAL;
-    EXPECT_ERR(BRDFFIT_E_RANGE, brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_RANGE,
+               brdffit_model_eval_angles(as, 2, th, ph, th, ph, 3, p, v, NULL, &err));
     ph[1] = 1.0;
 
     /* the Jacobian check */
@@ -745,8 +761,8 @@ static void test_model_destroyed_handle(void **state)
                brdffit_model_eval_angles(m, 1, th, ph, th, ph, 1, p, v, NULL, &err));
     rep.struct_size = sizeof rep;
     EXPECT_ERR(BRDFFIT_E_BAD_HANDLE, brdffit_model_check_jacobian(m, g, p, &rep, &err));
-    EXPECT_ERR(BRDFFIT_E_BAD_HANDLE, brdffit_image_texture(px, 3 * 7, BRDFFIT_TEXTURE_MODEL, g, m,
-                                                           p, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_BAD_HANDLE,
+               brdffit_image_texture(px, 3 * 7, BRDFFIT_TEXTURE_MODEL, g, m, p, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_BAD_HANDLE,
                brdffit_image_sphere_model(px, 48, 16, m, p, 1, 0.0, 0.0, NULL, NULL, &err));
     {
@@ -850,7 +866,8 @@ static void test_optimizer_misuse(void **state)
     assert_int_equal(brdffit_optimizer_param_count(NULL), 0);
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_set(NULL, BRDFFIT_OPT_GTOL, 1e-8));
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_run(NULL, x));
-    EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_set_residuals(NULL, 2, line_residuals, NULL));
+    EXPECT(BRDFFIT_E_INVALID_ARGUMENT,
+           brdffit_optimizer_set_residuals(NULL, 2, line_residuals, NULL));
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_covariance(NULL, cov));
     assert_int_equal(brdffit_optimizer_stop_reason(NULL), BRDFFIT_STOP_NONE);
     assert_true(isnan(brdffit_optimizer_final_cost(NULL)));
@@ -862,7 +879,8 @@ static void test_optimizer_misuse(void **state)
     EXPECT(BRDFFIT_E_NOT_READY, brdffit_optimizer_std_errors(opt, cov));
     assert_true(isnan(brdffit_optimizer_condition(opt)));
     /* problems */
-    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt, brdffit_optimizer_set_residuals(opt, 2, NULL, NULL));
+    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
+               brdffit_optimizer_set_residuals(opt, 2, NULL, NULL));
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
                brdffit_optimizer_set_residuals(opt, 0, line_residuals, NULL));
     EXPECT_OPT(BRDFFIT_E_OUT_OF_MEMORY, opt,
@@ -897,18 +915,20 @@ static void test_optimizer_misuse(void **state)
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt, brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, NAN));
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
                brdffit_optimizer_set(opt, BRDFFIT_OPT_XTOL, HUGE_VAL));
-    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt, brdffit_optimizer_set(opt, BRDFFIT_OPT_FTOL, -1e-9));
+    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
+               brdffit_optimizer_set(opt, BRDFFIT_OPT_FTOL, -1e-9));
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
                brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, 10.5));
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
                brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_EVALUATIONS, 1e300));
-    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt, brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALING, 0.5));
+    EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
+               brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALING, 0.5));
     EXPECT_OPT(BRDFFIT_E_INVALID_ARGUMENT, opt,
                brdffit_optimizer_set(opt, BRDFFIT_OPT_DIAG_FLOOR, 2.0));
     EXPECT(BRDFFIT_OK, brdffit_optimizer_get(opt, BRDFFIT_OPT_GTOL, &v));
     assert_true(v == 1e-13);
     EXPECT(BRDFFIT_OK, brdffit_optimizer_get(opt, BRDFFIT_OPT_MAX_ITERATIONS, &v));
-    assert_true(v == 5000.0);
+    assert_true(v == 10000.0);
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_get(opt, BRDFFIT_OPT_GTOL, NULL));
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_optimizer_get(opt, (brdffit_optim_setting)99, &v));
     /* bounds: lower > upper, NaN, empty boxes; nothing changes */
@@ -1045,7 +1065,8 @@ static void test_fit_misuse(void **state)
 
     assert_int_equal(brdffit_fit_create(&fit, g, as, NULL, NULL), BRDFFIT_OK);
     /* settings: unknown, NaN, Inf, out of range, not whole */
-    assert_int_equal(brdffit_fit_set(fit, (brdffit_fit_setting)99, 1.0), BRDFFIT_E_INVALID_ARGUMENT);
+    assert_int_equal(brdffit_fit_set(fit, (brdffit_fit_setting)99, 1.0),
+                     BRDFFIT_E_INVALID_ARGUMENT);
     assert_string_not_equal(brdffit_fit_message(fit), "");
     assert_int_equal(brdffit_fit_set(fit, (brdffit_fit_setting)0, 1.0), BRDFFIT_E_INVALID_ARGUMENT);
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_fit_get(fit, (brdffit_fit_setting)99, &v));
@@ -1093,7 +1114,8 @@ static void test_fit_misuse(void **state)
     assert_int_equal(brdffit_fit_stop_reason(fit), BRDFFIT_STOP_NONE);
     assert_int_equal(brdffit_fit_history(fit, NULL, NULL), 0);
     /* after a run: NULL outputs, unknown metric, channel out of range */
-    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT),
+                     BRDFFIT_OK);
     assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
     assert_string_equal(brdffit_fit_message(fit), "");
     EXPECT(BRDFFIT_E_INVALID_ARGUMENT, brdffit_fit_params(fit, NULL));
@@ -1127,7 +1149,8 @@ static void test_fit_start_infinite(void **state)
     brdffit_status st;
     (void)state;
     assert_int_equal(brdffit_fit_create(&fit, g, as, NULL, NULL), BRDFFIT_OK);
-    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_JOINT),
+                     BRDFFIT_OK);
     assert_int_equal(brdffit_model_default_params(as, 3, p), BRDFFIT_OK);
     p[4] = HUGE_VAL;
     st = brdffit_fit_set_start(fit, p);
@@ -1282,8 +1305,8 @@ static brdffit_status nan_derivative_eval(const brdffit_batch *b, const double *
 }
 
 /* Finite values whose squares overflow. */
-static brdffit_status huge_eval(const brdffit_batch *b, const double *p, size_t nc,
-                                double *values, double *jac, void *user)
+static brdffit_status huge_eval(const brdffit_batch *b, const double *p, size_t nc, double *values,
+                                double *jac, void *user)
 {
     size_t i;
     (void)p;
@@ -1420,11 +1443,13 @@ static void expect_bad_options(const brdffit_grid *g, const brdffit_image_option
     unsigned char px[3 * 64 * 64];
     size_t w, h;
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture_size(g, o, &w, &h, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * 64, BRDFFIT_TEXTURE_MEASURED,
-                                                                 g, NULL, NULL, o, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_image_texture(px, 3 * 64, BRDFFIT_TEXTURE_MEASURED, g, NULL, NULL, o, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_image_sphere_measured(px, 3 * 16, 16, g, 0.0, 0.0, o, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(px, 3 * 64, 64, 64, NULL, 0, o, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_plot(px, 3 * 64, 64, 64, NULL, 0, o, &err));
 }
 
 static void test_image_options_misuse(void **state)
@@ -1433,11 +1458,11 @@ static void test_image_options_misuse(void **state)
     brdffit_image_options o;
     (void)state;
     brdffit_image_options_init(NULL);
-#define BAD_OPTION(field, value)            \
-    do {                                    \
-        brdffit_image_options_init(&o);     \
-        o.field = (value);                  \
-        expect_bad_options(g, &o);          \
+#define BAD_OPTION(field, value)        \
+    do {                                \
+        brdffit_image_options_init(&o); \
+        o.field = (value);              \
+        expect_bad_options(g, &o);      \
     } while (0)
     BAD_OPTION(struct_size, 0);
     BAD_OPTION(struct_size, offsetof(brdffit_image_options, log_y));
@@ -1557,30 +1582,33 @@ static void test_image_functions_misuse(void **state)
     assert_int_equal(w, 7);
     assert_int_equal(h, 12);
     /* textures */
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(NULL, 3 * w, BRDFFIT_TEXTURE_MEASURED,
-                                                                 g, NULL, NULL, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_texture(NULL, 3 * w, BRDFFIT_TEXTURE_MEASURED, g, NULL, NULL, NULL,
+                                     NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_image_texture(px, 3 * w - 1, BRDFFIT_TEXTURE_MEASURED, g, NULL, NULL, NULL,
                                      NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * w, (brdffit_texture_kind)3,
                                                                  g, as, p, NULL, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_image_texture(px, 3 * w, (brdffit_texture_kind)-1, g, as, p, NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL,
+                                                                 g, NULL, p, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
-               brdffit_image_texture(px, 3 * w, (brdffit_texture_kind)-1, g, as, p, NULL, NULL,
+               brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_DIFFERENCE, g, as, NULL, NULL, NULL,
                                      &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL, g,
-                                                                 NULL, p, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_DIFFERENCE,
-                                                                 g, as, NULL, NULL, NULL, &err));
+    EXPECT_ERR(
+        BRDFFIT_E_INVALID_ARGUMENT,
+        brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL, g, as, p, NULL, &HALF_ALLOC, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
-               brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL, g, as, p, NULL, &HALF_ALLOC,
-                                     &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MEASURED,
-                                                                 NULL, NULL, NULL, NULL, NULL, &err));
+               brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MEASURED, NULL, NULL, NULL, NULL,
+                                     NULL, &err));
     EXPECT_ERR(BRDFFIT_E_UNSUPPORTED, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MEASURED, sc,
                                                             NULL, NULL, NULL, NULL, &err));
     p[0] = NAN;
-    EXPECT_ERR(BRDFFIT_E_NONFINITE, brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL, g, as, p,
-                                                          NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_NONFINITE,
+               brdffit_image_texture(px, 3 * w, BRDFFIT_TEXTURE_MODEL, g, as, p, NULL, NULL, &err));
     /* spheres */
     EXPECT_ERR(BRDFFIT_E_NONFINITE,
                brdffit_image_sphere_model(px, 3 * 16, 16, as, p, 3, 0.0, 0.0, NULL, NULL, &err));
@@ -1591,8 +1619,8 @@ static void test_image_functions_misuse(void **state)
                brdffit_image_sphere_measured(px, 47, 16, g, 0.0, 0.0, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_image_sphere_measured(px, 48, 0, g, 0.0, 0.0, NULL, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_TOO_LARGE, brdffit_image_sphere_measured(px, 3 * 32769, 32769, g, 0.0, 0.0,
-                                                                  NULL, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_TOO_LARGE,
+               brdffit_image_sphere_measured(px, 3 * 32769, 32769, g, 0.0, 0.0, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_image_sphere_measured(px, 48, 16, g, NAN, 0.0, NULL, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
@@ -1614,10 +1642,14 @@ static void test_image_functions_misuse(void **state)
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
                brdffit_image_sphere_model(px, 48, 16, as, p, 3, -0.1, 0.0, NULL, NULL, &err));
     /* plots */
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(NULL, 48, 16, 16, series, 3, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(px, 45, 15, 16, series, 3, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(px, 48, 16, 15, series, 3, NULL, &err));
-    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(px, 47, 16, 16, series, 3, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_plot(NULL, 48, 16, 16, series, 3, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_plot(px, 45, 15, 16, series, 3, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_plot(px, 48, 16, 15, series, 3, NULL, &err));
+    EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT,
+               brdffit_image_plot(px, 47, 16, 16, series, 3, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_TOO_LARGE,
                brdffit_image_plot(px, 3 * 32769, 32769, 16, series, 3, NULL, &err));
     EXPECT_ERR(BRDFFIT_E_INVALID_ARGUMENT, brdffit_image_plot(px, 48, 16, 16, NULL, 3, NULL, &err));

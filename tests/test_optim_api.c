@@ -69,8 +69,10 @@ static void test_settings_defaults_and_restore(void **state)
     assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
     assert_true(get(opt, BRDFFIT_OPT_XTOL) == 1e-10);
     assert_true(get(opt, BRDFFIT_OPT_FTOL) == 1e-15);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 5000);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_EVALUATIONS) == 12000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 10000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_EVALUATIONS) == 24000);
+    assert_true(get(opt, BRDFFIT_OPT_SCALE_MEMORY) == 1);
+    assert_true(get(opt, BRDFFIT_OPT_STEP_TEST) == 0);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 1);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
     assert_true(get(opt, BRDFFIT_OPT_STEP_BOUND) == 1e300);
@@ -96,7 +98,7 @@ static void test_settings_defaults_and_restore(void **state)
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_MAX_ITERATIONS, 0), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_DIAG_FLOOR, 0), BRDFFIT_OK);
     assert_true(get(opt, BRDFFIT_OPT_GTOL) == 1e-13);
-    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 5000);
+    assert_true(get(opt, BRDFFIT_OPT_MAX_ITERATIONS) == 10000);
     assert_true(get(opt, BRDFFIT_OPT_DIAG_FLOOR) == 1e-12);
     assert_true(get(opt, BRDFFIT_OPT_SCALING) == 0);
     brdffit_optimizer_destroy(opt);
@@ -587,8 +589,8 @@ static void test_gradient_test_scale_free(void **state)
     for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         brdffit_optimizer *opt = make(2);
         double x[2] = {0.0, 0.0};
-        assert_int_equal(
-            brdffit_optimizer_set_residuals(opt, 5, scaled_line, (void *)&cases[k]), BRDFFIT_OK);
+        assert_int_equal(brdffit_optimizer_set_residuals(opt, 5, scaled_line, (void *)&cases[k]),
+                         BRDFFIT_OK);
         assert_int_equal(brdffit_optimizer_set(opt, BRDFFIT_OPT_GTOL, 1e-8), BRDFFIT_OK);
         assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
         assert_int_equal(brdffit_optimizer_stop_reason(opt), BRDFFIT_STOP_GRADIENT);

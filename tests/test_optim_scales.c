@@ -69,8 +69,8 @@ static double run_changed(const changed *c, size_t s, int *converged, size_t *it
     assert_true(p->n_obs <= MAX_OBS);
     for (j = 0; j < p->n_params; j++) x[j] = (p->start[s][j] - c->shift[j]) / c->scale[j];
     assert_int_equal(brdffit_optimizer_create(&opt, p->n_params, NULL, NULL), BRDFFIT_OK);
-    assert_int_equal(
-        brdffit_optimizer_set_residuals(opt, p->n_obs, changed_residuals, (void *)c), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set_residuals(opt, p->n_obs, changed_residuals, (void *)c),
+                     BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
     *converged = brdffit_optimizer_converged(opt);
     *stop = brdffit_optimizer_stop_reason(opt);
@@ -144,16 +144,18 @@ static void test_mixed_magnitudes(void **state)
      * J^T J, docs/optimizer.md) compares columns in the parameters' units,
      * so the large first parameter raises the damping of the others. */
     run_all(make_mixed, "first parameter at 1e6",
-            "Lanczos3/2 Hahn1/2 Nelson/1 Lanczos1/1 Lanczos2/2 Roszman1/1 ");
+            "Lanczos3/1 Hahn1/2 Nelson/1 Lanczos1/1 Lanczos2/1 Roszman1/1 ");
 }
 
 static void test_through_zero(void **state)
 {
     (void)state;
     /* The step test is relative to |x_j|, so it depends on the origin:
-     * slow runs stop on a small damped step (MGH10 from start 1). */
+     * slow runs stop on a small damped step (MGH10 from start 1, reported
+     * stalled), others a digit or two early (Gauss3/1, ENSO/2, Bennett5/1
+     * at LRE 5.1 to 5.7). */
     run_all(make_through_zero, "every parameter through zero",
-            "MGH17/1 ENSO/2 Thurber/2 MGH10/1 ");
+            "Gauss3/1 ENSO/2 MGH10/1 Bennett5/1 ");
 }
 
 int main(void)

@@ -133,15 +133,16 @@ typedef enum brdffit_optim_setting {
     BRDFFIT_OPT_GTOL = 1,           /**< Stop when max_j |g_j| / sqrt(A_jj * cost) <= gtol, g = J^T r, A = J^T J, over the parameters that may move (not fixed, not pushing out of a bound): the cosine between the residual vector and each Jacobian column, independent of the units of parameters and residuals; default 1e-13. */
     BRDFFIT_OPT_XTOL = 2,           /**< Stop when the step (after projection onto the box) has |step_j| <= xtol * (|x_j| + xtol) for every parameter j, before it is evaluated; default 1e-10. */
     BRDFFIT_OPT_FTOL = 3,           /**< Stop when an accepted step lowers the cost by at most ftol * cost and the model predicted no more; default 1e-15. */
-    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 5000; at most 2^53. */
-    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 12000; at most 2^53. */
+    BRDFFIT_OPT_MAX_ITERATIONS = 4, /**< Accepted plus rejected steps; default 10000; at most 2^53. */
+    BRDFFIT_OPT_MAX_EVALUATIONS = 5,/**< Problem evaluations, the start point included; a step is only tried while two remain (the trial, and the derivatives if it is accepted); default 24000; at most 2^53. */
     BRDFFIT_OPT_SCALING = 6,        /**< 1 = Marquardt, D = diag(J^T J) (default); 0 = Levenberg, D = d0 I with d0 the largest diagonal entry of J^T J at the start point. */
     BRDFFIT_OPT_DIAG_FLOOR = 7,     /**< Floor of Marquardt's diagonal scaling entries, relative to the largest (and never below 1e-300); 0 < value <= 1; default 1e-12. */
     BRDFFIT_OPT_STEP_BOUND = 8,     /**< Largest change of a parameter in one step, relative to the largest magnitude it has had in the run (start included): a longer step is shortened along its direction; a parameter that has only been 0 sets no bound; default 1e300 (no bound). */
     BRDFFIT_OPT_RESTART_BOUND = 9,  /**< When a run stalls (::BRDFFIT_STOP_STALLED) it starts once more from the start point with this step bound (see ::BRDFFIT_OPT_STEP_BOUND) and returns the better of the two attempts; only when the value is below the step bound; default 1 (at most doubling a parameter's scale per step). Iterations, history and last improvement describe the attempt returned; evaluations count both. Set it to 1e300 to turn the restart off. */
     BRDFFIT_OPT_COVARIANCE = 10     /**< The covariance brdffit_optimizer_covariance() and brdffit_optimizer_std_errors() report: 0 = classic s^2 (J^T J)^+ (default; assumes independent errors of one common variance, or residuals already divided by their standard deviations); 1 = sandwich (heteroscedasticity-robust, HC3): (J^T J)^+ (sum_i (r_i / (1 - h_i))^2 J_i J_i^T) (J^T J)^+ with the leverages h_i = J_i (J^T J)^+ J_i^T, which assumes only independent errors; residual form only (one more evaluation at the returned point). Recommended when the noise level varies between rows and the residuals are not weighted by it (multiplicative noise). */,
-    BRDFFIT_OPT_SCALE_MEMORY = 11,  /**< Marquardt scaling only: 1 = each entry of D is the largest diag(J^T J)_jj (floored) met since the start of the attempt, as MINPACK and GSL keep the running maximum of the column norms, so a parameter whose column shrinks on the way (one passing through zero) keeps its scale; 0 = diag(J^T J) at the current point (default). */
-    BRDFFIT_OPT_STEP_TEST = 12      /**< Which step test ::BRDFFIT_OPT_XTOL applies: 0 = per parameter, |step_j| <= xtol * (|x_j| + xtol) for every j (default); 1 = in the scaling D, as MINPACK's xtol: ||D^1/2 step|| <= xtol * ||D^1/2 x||. */
+    BRDFFIT_OPT_SCALE_MEMORY = 11,  /**< Marquardt scaling only: 1 = each entry of D is the largest diag(J^T J)_jj (floored) met since the start of the attempt, as MINPACK and GSL keep the running maximum of the column norms, so a parameter whose column shrinks on the way (one passing through zero) keeps its scale; the memory starts again from the current point when every free entry exceeds its diag(J^T J)_jj by more than 1e8 (the scale of the whole problem has changed, as on the way from a far start) (default); 0 = diag(J^T J) at the current point (the BRDF fits set 0). */
+    BRDFFIT_OPT_STEP_TEST = 12,     /**< Which step test ::BRDFFIT_OPT_XTOL applies: 0 = per parameter, |step_j| <= xtol * (|x_j| + xtol) for every j (default); 1 = in the scaling D, as MINPACK's xtol: ||D^1/2 step|| <= xtol * ||D^1/2 x||. */
+    BRDFFIT_OPT_STEP_CONTROL = 13   /**< 0 = lambda is the damping policy's alone (default); 1 = Moré's rules as well (MINPACK's lmder): after a rejected step whose cost is known, lambda rises at least until the step is no longer than the minimiser of the quadratic through the cost, its slope and the trial's cost (0.1 to 0.5 of the rejected step, lengths in the scaling D); after a step with gain ratio above 0.75, lambda falls by factors of 10 while the next step stays within twice the length of the last. Fewer evaluations where the start needs damping and the end none (docs/nist-strd.md: the joint fit of P1 12 -> 7 iterations); it trades certified runs (MGH 90 -> 90, two lost, two gained). */
 } brdffit_optim_setting;
 
 /** @brief Why a run ended. Values are fixed forever. */
@@ -155,7 +156,7 @@ typedef enum brdffit_stop_reason {
     BRDFFIT_STOP_CANCELLED = 6,     /**< brdffit_optimizer_cancel() was called. */
     BRDFFIT_STOP_CALLBACK = 7,      /**< The iteration callback asked to stop. */
     BRDFFIT_STOP_ZERO_COST = 8,     /**< The cost reached zero (below DBL_MIN). */
-    BRDFFIT_STOP_STALLED = 9        /**< Not converged: the run ended on a small step, reduction or gradient at a point where the problem no longer depends on a free parameter (its Jacobian column, times the largest magnitude the parameter had, is below DBL_EPSILON of the largest such column): a plateau where a parameter ran away. The point returned is the best one found (see ::BRDFFIT_OPT_RESTART_BOUND). */
+    BRDFFIT_STOP_STALLED = 9        /**< Not converged: the run ended on a small step, reduction or gradient at a point that is no solution: the problem no longer depends on a free parameter (its Jacobian column is zero, or fell below DBL_EPSILON of the largest it had in the run, and times the largest magnitude the parameter had it is below DBL_EPSILON of the largest such column): a plateau where a parameter ran away; or, after a small step or reduction, the point is not stationary (the undamped step still moves a parameter by more than 1e-6 of its scale and promises more than 1e-6 of the cost). The point returned is the best one found (see ::BRDFFIT_OPT_RESTART_BOUND). */
 } brdffit_stop_reason;
 
 /**
@@ -259,8 +260,11 @@ BRDFFIT_API brdffit_status brdffit_optimizer_set_damping(brdffit_optimizer *opt,
 
 /**
  * @brief Set a numeric setting (see ::brdffit_optim_setting for meaning and
- *        default). A value of 0 restores the default, except for
- *        ::BRDFFIT_OPT_SCALING where 0 selects Levenberg.
+ *        default). A value of 0 restores the default, except for the
+ *        settings that take 0 or 1 (::BRDFFIT_OPT_SCALING,
+ *        ::BRDFFIT_OPT_COVARIANCE, ::BRDFFIT_OPT_SCALE_MEMORY,
+ *        ::BRDFFIT_OPT_STEP_TEST, ::BRDFFIT_OPT_STEP_CONTROL), where 0
+ *        selects the first choice.
  * @return ::BRDFFIT_OK; ::BRDFFIT_E_INVALID_ARGUMENT for an unknown setting
  *         or a negative, non-finite or non-integral (for limits) value.
  */

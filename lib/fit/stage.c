@@ -256,6 +256,13 @@ static brdffit_status configure(bf_stage *st, size_t rows)
     /* a BRDF fit needs no more than 1e-12 of relative cost reduction: its
      * parameters are then far inside their standard errors */
     BF_RETURN_IF_ERROR(brdffit_optimizer_set(opt, BRDFFIT_OPT_FTOL, 1e-12));
+    /* the fits keep the scaling of the current point: under the
+     * optimizer's default running maximum, the curvature of the colours
+     * at a start of 0 under the cube-root objective (its floored slope)
+     * is remembered and damps them for the rest of the run
+     * (test_fit_objectives: 200 iterations, not converged;
+     * docs/nist-strd.md) */
+    BF_RETURN_IF_ERROR(brdffit_optimizer_set(opt, BRDFFIT_OPT_SCALE_MEMORY, 0.0));
     return brdffit_optimizer_set_callback(opt, stage_iteration, st);
 }
 

@@ -3,12 +3,19 @@
  * stopping tests look at the last step; this one looks at the point: a
  * free parameter whose Jacobian column vanished (an exponential
  * underflowed and the parameter ran away, so the problem no longer
- * depends on it) is no solution, however small the steps. docs/optimizer.md
- * describes the test. */
+ * depends on it) is no solution, however small the steps; nor, after a
+ * small step or reduction, is a point where the undamped step still
+ * promises a real gain. docs/optimizer.md describes the tests. */
 #include <float.h>
 #include <math.h>
 
 #include "optim/optim_internal.h"
+
+/* Not stationary (see not_stationary()): the Gauss-Newton step changes a
+ * parameter by more than this share of its scale, and the model promises
+ * more than this share of the cost for it. */
+#define BF_LEFT_STEP 1e-6
+#define BF_LEFT_GAIN 1e-6
 
 static int pushes_out(const bf_optim_work *w, size_t j)
 {
@@ -41,14 +48,22 @@ static double sensitivity(const bf_optim_work *w, size_t p, size_t j)
     return sqrt(w->jtj[j * p + j]) * w->xscale[j];
 }
 
-/* Parameter j's column vanished: its sensitivity is below DBL_EPSILON
- * times the largest sensitivity of the analysed parameters. A parameter
- * that has only been 0 has no scale and is not judged. */
+/* Parameter j's Jacobian column vanished: its norm fell below
+ * DBL_EPSILON times the largest it had in the attempt (an exponential
+ * underflowed as the parameter ran away), and the model's sensitivity to
+ * a relative change of it is below DBL_EPSILON times the largest such
+ * sensitivity of the analysed parameters. The first alone would take a
+ * column that was huge on the way (MGH10's amplitude) for a vanished one,
+ * the second alone a parameter that stays near zero (the centre of MGH's
+ * Gaussian). A zero column counts as vanished: the problem does not
+ * depend on that parameter (a start on a plateau, or a parameter the
+ * model ignores). */
 int bf_optim_vanished(const brdffit_optimizer *opt, size_t j)
 {
     const bf_optim_work *w = &opt->w;
     size_t k, p = opt->n_params;
-    double top = 0.0;
+    double a = w->jtj[j * p + j], top = 0.0;
+    if (a > 0.0 && a > DBL_EPSILON * DBL_EPSILON * w->amax[j]) return 0;
     if (!(w->xscale[j] > 0.0)) return 0;
     for (k = 0; k < p; k++)
         if (w->analysed[k]) top = fmax(top, sensitivity(w, p, k));
@@ -63,9 +78,31 @@ static int column_vanished(const brdffit_optimizer *opt)
     return 0;
 }
 
-brdffit_stop_reason bf_optim_classify(const brdffit_optimizer *opt, brdffit_stop_reason stop)
+/* The point is not stationary: the undamped (Gauss-Newton) step, with the
+ * bounds and fixed parameters as a step would have them, still changes
+ * some free parameter by more than BF_LEFT_STEP of its scale (its
+ * magnitude, or the largest it had in the run) and the linear model
+ * promises more than BF_LEFT_GAIN of the cost for it. A damped step can
+ * be small because the damping is large, far from any minimum; this
+ * looks at the point itself. At a zero-residual solution the step is
+ * small; at a minimum with residuals the gain is. Overwrites the step's
+ * scratch (w.trial, w.step). */
+static int not_stationary(brdffit_optimizer *opt, double cost)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t j;
+    int bounded = 0, fallback = 0, moves = 0;
+    double pred = bf_optim_step(opt, BF_LAMBDA_MIN, 1.0, HUGE_VAL, &bounded, &fallback);
+    for (j = 0; j < opt->n_params; j++)
+        if (fabs(w->step[j]) > BF_LEFT_STEP * fmax(fabs(w->x[j]), w->xscale[j])) moves = 1;
+    return moves && pred > BF_LEFT_GAIN * cost;
+}
+
+brdffit_stop_reason bf_optim_classify(brdffit_optimizer *opt, brdffit_stop_reason stop, double cost)
 {
     if (stop != BRDFFIT_STOP_STEP && stop != BRDFFIT_STOP_COST && stop != BRDFFIT_STOP_GRADIENT)
         return stop;
-    return column_vanished(opt) ? BRDFFIT_STOP_STALLED : stop;
+    if (column_vanished(opt)) return BRDFFIT_STOP_STALLED;
+    if (stop != BRDFFIT_STOP_GRADIENT && not_stationary(opt, cost)) return BRDFFIT_STOP_STALLED;
+    return stop;
 }

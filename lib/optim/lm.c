@@ -8,7 +8,9 @@
  * the problem cannot evaluate (callback failure, NaN or Inf) is a rejected
  * step with rho = NaN. When a rejection leaves lambda where it was (a
  * policy at its cap), the next step is halved, so that every iteration
- * tries a new point and the step test ends the run eventually. A run
+ * tries a new point and the step test ends the run eventually. With the
+ * step control setting, lambda also follows the step's length after a
+ * rejected or a very successful step (Moré's rules). A run
  * that ends stalled (classify.c) starts once more from the start with
  * bounded steps, and the better attempt is returned. Nothing
  * here allocates except the history, and that only when a run needs more
@@ -31,6 +33,8 @@ typedef struct lm_run {
     double actual;      /* cost reduction of the last accepted step */
     double pred;        /* predicted reduction of the last step */
     double cost_before; /* cost before the last accepted step */
+    double cost_trial;  /* cost at the last trial point (NaN if not evaluable) */
+    double last_len;    /* scaled length of the last step */
     size_t iterations, evaluations, last_improvement, history_len;
     double bound; /* step bound, relative to the parameter scales */
     int accepted, bounded, fallback;
@@ -155,6 +159,7 @@ static int try_step(lm_run *run)
     int fused = opt->form == BF_FORM_NORMAL;
     double cost_trial, cost_new;
     run->rho = 0.0;
+    run->cost_trial = NAN;
     if (!(run->pred > 0.0)) return 0; /* the model sees no gain: not evaluated */
     run->evaluations++;
     if (bf_optim_eval(opt, w->trial, fused, &cost_trial, w->jtj_new, w->g_new, NULL, 0) !=
@@ -162,6 +167,7 @@ static int try_step(lm_run *run)
         run->rho = NAN;
         return 0;
     }
+    run->cost_trial = cost_trial;
     run->rho = (run->cost - cost_trial) / run->pred;
     if (!(cost_trial < run->cost)) return 0;
     cost_new = cost_trial;
@@ -182,6 +188,63 @@ static int try_step(lm_run *run)
     return 1;
 }
 
+/* The length of the last step in the scaling D. */
+static double scaled_length(const bf_optim_work *w, size_t p)
+{
+    double s = 0.0;
+    size_t j;
+    for (j = 0; j < p; j++) s += w->d[j] * w->step[j] * w->step[j];
+    return sqrt(s);
+}
+
+/* Step control (BRDFFIT_OPT_STEP_CONTROL), after a rejected step whose
+ * trial cost is known: the share alpha of
+ * the step at which the quadratic through the cost, its slope along the
+ * step and the trial's cost has its minimum, kept in [0.1, 0.5] (Moré's
+ * rule in MINPACK's lmder); then lambda is raised until the step is no
+ * longer than alpha times the rejected one. Returns the new lambda, at
+ * least lambda. */
+static double shrink_lambda(lm_run *run, double lambda)
+{
+    brdffit_optimizer *opt = run->opt;
+    const bf_optim_work *w = &opt->w;
+    size_t j, k, p = opt->n_params;
+    double gs = 0.0, curv, alpha = 0.5, target;
+    int bounded = 0, fallback = 0;
+    for (j = 0; j < p; j++) gs += w->g[j] * w->step[j];
+    curv = run->cost_trial - run->cost - 2.0 * gs; /* phi(1) - phi(0) - phi'(0) */
+    if (curv > 0.0 && gs < 0.0) alpha = fmin(0.5, fmax(0.1, -gs / curv));
+    target = alpha * scaled_length(w, p);
+    if (!(target > 0.0)) return lambda;
+    for (k = 0; k < 60; k++) {
+        double len;
+        (void)bf_optim_step(opt, lambda, 1.0, run->bound, &bounded, &fallback);
+        len = scaled_length(w, p);
+        if (!(len > target) || lambda >= BF_LAMBDA_MAX) break;
+        lambda = fmin(BF_LAMBDA_MAX, lambda * fmax(2.0, len / target));
+    }
+    return lambda;
+}
+
+/* Step control (BRDFFIT_OPT_STEP_CONTROL), after a very successful step
+ * (rho > 0.75): lower lambda by factors of 10 while the step from the new
+ * point stays within twice the scaled length of the step just taken
+ * (MINPACK doubles its trust radius so). Returns the new lambda, at most
+ * lambda. */
+static double grow_lambda(lm_run *run, double lambda, double last_len)
+{
+    brdffit_optimizer *opt = run->opt;
+    const bf_optim_work *w = &opt->w;
+    size_t k, p = opt->n_params;
+    int bounded = 0, fallback = 0;
+    for (k = 0; k < 16 && lambda > BF_LAMBDA_MIN * 10.0; k++) {
+        (void)bf_optim_step(opt, lambda * 0.1, 1.0, run->bound, &bounded, &fallback);
+        if (scaled_length(w, p) > 2.0 * last_len) break;
+        lambda *= 0.1;
+    }
+    return lambda;
+}
+
 static void update_lambda(lm_run *run)
 {
     const brdffit_damping *policy = &run->opt->policy;
@@ -191,6 +254,10 @@ static void update_lambda(lm_run *run)
     else
         policy->reject(run->opt->policy_state, run->rho, &lambda, policy->user);
     lambda = clamp_lambda(lambda, old);
+    if (run->opt->settings.step_control && !run->accepted && isfinite(run->cost_trial))
+        lambda = shrink_lambda(run, lambda);
+    if (run->opt->settings.step_control && run->accepted && run->rho > 0.75)
+        lambda = grow_lambda(run, lambda, run->last_len);
     if (run->accepted || lambda > old)
         run->t = 1.0;
     else
@@ -221,6 +288,7 @@ static brdffit_status iterate(lm_run *run, brdffit_stop_reason *stop)
     brdffit_optimizer *opt = run->opt;
     *stop = BRDFFIT_STOP_NONE;
     run->pred = bf_optim_step(opt, run->lambda, run->t, run->bound, &run->bounded, &run->fallback);
+    run->last_len = scaled_length(&opt->w, opt->n_params);
     if (bf_optim_stopped(opt)) { /* maybe inside the step's solve: no step */
         *stop = BRDFFIT_STOP_CANCELLED;
         return BRDFFIT_OK;
@@ -310,7 +378,7 @@ static brdffit_status attempt(lm_run *run, brdffit_stop_reason *stop)
         BF_RETURN_IF_ERROR(iterate(run, stop));
     }
     bf_optim_mark_analysed(run->opt);
-    *stop = bf_optim_classify(run->opt, *stop);
+    *stop = bf_optim_classify(run->opt, *stop, run->cost);
     return BRDFFIT_OK;
 }
 

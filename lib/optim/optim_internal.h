@@ -19,16 +19,20 @@
 #define BF_LAMBDA_MAX 1e300
 /* Absolute floor of the diagonal scaling entries. */
 #define BF_SCALE_ABS_FLOOR 1e-300
+/* The scale memory starts again when every free entry of D exceeds its
+ * diag(J^T J) by more than this factor (step.c). */
+#define BF_SCALE_RESET 1e8
 
 typedef enum bf_form { BF_FORM_NONE = 0, BF_FORM_RESIDUALS = 1, BF_FORM_NORMAL = 2 } bf_form;
 
 typedef struct bf_optim_settings {
     double gtol, xtol, ftol, diag_floor, step_bound, restart_bound;
     size_t max_iterations, max_evaluations;
-    int marquardt; /* 1: D = diag(J^T J), 0: D = d0 I */
-    int sandwich;  /* covariance: 1 sandwich, 0 classic */
+    int marquardt;    /* 1: D = diag(J^T J), 0: D = d0 I */
+    int sandwich;     /* covariance: 1 sandwich, 0 classic */
     int scale_memory; /* 1: D keeps the largest diag(J^T J) of the run, 0: the current one */
     int step_test;    /* 0: per parameter, 1: ||D^1/2 step|| against ||D^1/2 x|| */
+    int step_control; /* 1: lambda also follows the step length (lm.c) */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {
@@ -61,6 +65,7 @@ typedef struct bf_optim_work {
     double *tmp;   /* scratch */
     double *lower, *upper;
     double *xscale; /* largest |x_j| of the run so far (the start included) */
+    double *amax;   /* largest diag(J^T J)_jj of the attempt so far (the start included) */
     double *best;   /* the point a stalled attempt ended at */
     /* p x p values each */
     double *jtj;     /* J^T J at x */
@@ -93,9 +98,9 @@ struct brdffit_optimizer {
     brdffit_iteration_fn callback;
     void *callback_user;
 
-    atomic_int cancel; /* set by brdffit_optimizer_cancel(), any thread */
+    atomic_int cancel;       /* set by brdffit_optimizer_cancel(), any thread */
     const atomic_int *watch; /* bf_optim_watch(): another cancel flag, or NULL */
-    int running;       /* a run is in progress (calls from callbacks) */
+    int running;             /* a run is in progress (calls from callbacks) */
 
     void *block; /* the workspace block */
     bf_optim_work w;
@@ -138,7 +143,8 @@ brdffit_status bf_optim_eval(brdffit_optimizer *opt, const double *x, int derivs
 /* step.c: the diagonal scaling D for the current J^T J (Marquardt) or the
  * constant d0 (Levenberg, set_d0 at the start of an attempt). With the
  * scale memory, Marquardt's entries keep the largest value they had since
- * the start of the attempt (set_d0). */
+ * the start of the attempt (set_d0). Also keeps w.amax, the largest
+ * diag(J^T J) of the attempt, whatever the scaling. */
 void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
 
 /* step.c: the step for damping lambda, shortened by factor t, with
@@ -155,15 +161,21 @@ int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);
 /* classify.c: the gradient test at the current point (see lm.c). */
 int bf_optim_gradient_small(const brdffit_optimizer *opt, double cost);
 
-/* classify.c: parameter j's Jacobian column vanished at the current point
- * (needs bf_optim_mark_analysed()). */
+/* classify.c: parameter j's Jacobian column vanished at the current point:
+ * it is zero, or its norm is below DBL_EPSILON times the largest of the
+ * attempt, and its sensitivity to a relative change of the parameter is
+ * below DBL_EPSILON times the largest of the analysed parameters (needs
+ * bf_optim_mark_analysed()). */
 int bf_optim_vanished(const brdffit_optimizer *opt, size_t j);
 
 /* classify.c: the stop reason to report for a run that ended with stop at
- * the current point: BRDFFIT_STOP_STALLED instead of a small step,
- * reduction or gradient where a free parameter's Jacobian column vanished.
- * Needs bf_optim_mark_analysed() first. */
-brdffit_stop_reason bf_optim_classify(const brdffit_optimizer *opt, brdffit_stop_reason stop);
+ * the current point (cost the cost there): BRDFFIT_STOP_STALLED instead
+ * of a small step, reduction or gradient where a free parameter's
+ * Jacobian column vanished, and instead of a small step or reduction
+ * where the point is not stationary. Needs bf_optim_mark_analysed()
+ * first; overwrites the step's scratch. */
+brdffit_stop_reason bf_optim_classify(brdffit_optimizer *opt, brdffit_stop_reason stop,
+                                      double cost);
 
 /* analysis.c: at the end of a run, mark the parameters the condition
  * number and the covariance are taken over. */

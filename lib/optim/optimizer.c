@@ -8,7 +8,7 @@
 #include "core/core.h"
 #include "optim/optim_internal.h"
 
-enum { BF_WORK_VECTORS = 14, BF_WORK_MATRICES = 5 };
+enum { BF_WORK_VECTORS = 15, BF_WORK_MATRICES = 5 };
 
 brdffit_status bf_optim_fail(brdffit_optimizer *opt, brdffit_status status, const char *fmt, ...)
 {
@@ -60,7 +60,7 @@ static int alloc_work(brdffit_optimizer *opt)
     double *d;
     double **vectors[BF_WORK_VECTORS] = {&w->x,     &w->trial, &w->g,      &w->g_new, &w->step,
                                          &w->delta, &w->d,     &w->scale,  &w->w,     &w->tmp,
-                                         &w->lower, &w->upper, &w->xscale, &w->best};
+                                         &w->lower, &w->upper, &w->xscale, &w->best,  &w->amax};
     double **matrices[BF_WORK_MATRICES] = {&w->jtj, &w->jtj_new, &w->m, &w->v, &w->meat};
     /* matrices first, then vectors, indices and flags; p <= 4096: no
      * overflow. The matrices are always written before they are read and

@@ -10,8 +10,8 @@
  * more in double precision. */
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0,
-                                                   5000,  12000, 1,     0,     0,     0};
+static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0, 10000,
+                                                   24000, 1,     0,     1,     0,     0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
@@ -82,6 +82,9 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_STEP_TEST:
         return set_switch(opt, &s->step_test, value,
                           "step test must be 0 (per parameter) or 1 (scaled norm)");
+    case BRDFFIT_OPT_STEP_CONTROL:
+        return set_switch(opt, &s->step_control, value,
+                          "step control must be 0 (the policy alone) or 1 (Moré's rules too)");
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }
@@ -106,6 +109,7 @@ brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim
     case BRDFFIT_OPT_COVARIANCE: *value = s->sandwich ? 1.0 : 0.0; return BRDFFIT_OK;
     case BRDFFIT_OPT_SCALE_MEMORY: *value = s->scale_memory ? 1.0 : 0.0; return BRDFFIT_OK;
     case BRDFFIT_OPT_STEP_TEST: *value = s->step_test ? 1.0 : 0.0; return BRDFFIT_OK;
+    case BRDFFIT_OPT_STEP_CONTROL: *value = s->step_control ? 1.0 : 0.0; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }

@@ -22,13 +22,34 @@ int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x)
     return x[j] <= opt->w.lower[j] || x[j] >= opt->w.upper[j];
 }
 
+/* The remembered scaling is out of date: every free parameter's entry of
+ * D exceeds its diag(J^T J) by more than BF_SCALE_RESET, so the problem's
+ * scale as a whole has changed since (a run from a far start), not one
+ * parameter's (one passing through zero). */
+static int scaling_stale(const bf_optim_work *w, size_t p)
+{
+    size_t j;
+    int any = 0;
+    for (j = 0; j < p; j++) {
+        if (w->fixed[j]) continue;
+        if (!(w->d[j] > BF_SCALE_RESET * w->jtj[j * p + j])) return 0;
+        any = 1;
+    }
+    return any;
+}
+
 void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
 {
     const bf_optim_work *w = &opt->w;
     size_t j, p = opt->n_params;
     double dmax = 0.0, floor_value;
-    for (j = 0; j < p; j++)
-        if (!w->fixed[j] && w->jtj[j * p + j] > dmax) dmax = w->jtj[j * p + j];
+    for (j = 0; j < p; j++) {
+        double a = w->jtj[j * p + j];
+        w->amax[j] = set_d0 ? a : fmax(w->amax[j], a);
+        if (!w->fixed[j] && a > dmax) dmax = a;
+    }
+    if (opt->settings.marquardt && opt->settings.scale_memory && !set_d0 && scaling_stale(w, p))
+        set_d0 = 1; /* start the memory again from here */
     if (!opt->settings.marquardt) {
         if (!set_d0) return;
         dmax = fmax(dmax, BF_SCALE_ABS_FLOOR);

@@ -1,7 +1,8 @@
-/* Test problems for the optimizer: part of the Moré-Garbow-Hillstrom set
- * (ACM TOMS 7, 1981) and two curve fits with data made from known
- * parameters, in residual form, plus an adapter that turns any of them
- * into the normal-equation form. */
+/* Test problems for the optimizer: the least-squares problems of the
+ * Moré-Garbow-Hillstrom set (ACM TOMS 7, 1981), all 35 with their minima
+ * and six of them on their own, and two curve fits with data made from
+ * known parameters, in residual form, plus an adapter that turns any of
+ * them into the normal-equation form. */
 #ifndef BRDFFIT_OPTIM_PROBLEMS_H
 #define BRDFFIT_OPTIM_PROBLEMS_H
 
@@ -9,8 +10,8 @@
 
 #include "brdffit/optim.h"
 
-#define OPTIM_MAX_ROWS 64
-#define OPTIM_MAX_PARAMS 8
+#define OPTIM_MAX_ROWS 100
+#define OPTIM_MAX_PARAMS 12
 
 /* Residual callbacks; user is unused except for the data fits. */
 brdffit_status optim_rosenbrock(const double *x, double *r, double *jac, void *user);
@@ -56,15 +57,36 @@ void optim_normal_adapter_init(optim_normal_adapter *a, brdffit_residual_fn fn, 
 brdffit_status optim_normal_adapter_fn(const double *x, double *cost, double *jtj, double *jtr,
                                        void *user);
 
-/* A named problem with its standard start. */
+/* A named problem with its standard start; for the MGH set also its
+ * number in the paper and its minima (sums of squares; an unused entry
+ * is -1). */
 typedef struct optim_problem {
     const char *name;
     size_t n_params, n_rows;
     double x0[OPTIM_MAX_PARAMS];
     brdffit_residual_fn fn;
+    int number;
+    double minima[2];
 } optim_problem;
 
-/* The MGH problems above, in the order declared; *count receives 6. */
+/* A zero minimum counts as reached below this cost. */
+#define OPTIM_ZERO_COST 1e-10
+
+/* Six MGH problems (those above), in the order declared; *count
+ * receives 6. */
 const optim_problem *optim_mgh_problems(size_t *count);
+
+/* The whole least-squares set of Moré, Garbow and Hillstrom (1981): the 35
+ * problems in the paper's order, at the dimensions and starts given
+ * there (variable dimensions: n = 10, Watson n = 6, extended Powell
+ * n = 12, Chebyquad n = 8, the linear functions n = 5, m = 10; Gulf
+ * m = 99, Brown-Dennis m = 20, Biggs m = 13). Call fn with the
+ * problem itself as user: the variable dimensions come from it.
+ * *count receives 35. */
+const optim_problem *optim_mgh_set(size_t *count);
+
+/* Whether cost is one of pb's minima: within 1e-6 relative of a
+ * non-zero one, or below OPTIM_ZERO_COST for a zero one. */
+int optim_mgh_solved(const optim_problem *pb, double cost);
 
 #endif
