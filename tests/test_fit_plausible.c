@@ -145,6 +145,7 @@ static void test_lobe_albedo(void **state)
         printf("level %d: lobe albedo %g %g %g\n", level, top[0], top[1], top[2]);
         for (c = 0; c < 3; c++) assert_true(top[c] <= 1.0 + 1e-3);
         assert_true(top[0] > 0.97); /* the bound is used, not a lobe switched off */
+        assert_int_equal(brdffit_fit_warnings(fit) & BRDFFIT_WARN_ALBEDO, 0);
         brdffit_fit_destroy(fit);
     }
     fit = fit_auto(grid, model, 0, p);
@@ -152,6 +153,17 @@ static void test_lobe_albedo(void **state)
         assert_close(p[brdffit_model_vector_index(model, 3, c, 3)] /
                          truth[brdffit_model_vector_index(model, 3, c, 3)],
                      1.0, 1e-5);
+    /* the lobe reflects twice its light in channel 0 (once in channel 1,
+     * half in 2): the verdict says so, naming the lobe and the channel */
+    {
+        char text[256];
+        assert_true(brdffit_fit_warnings(fit) & BRDFFIT_WARN_ALBEDO);
+        assert_int_equal(brdffit_fit_warning_text(fit, BRDFFIT_WARN_ALBEDO, text, sizeof text),
+                         BRDFFIT_OK);
+        printf("off: %s\n", text);
+        assert_non_null(strstr(text, "lobe of cs"));
+        assert_non_null(strstr(text, "channel 0"));
+    }
     brdffit_fit_destroy(fit);
     brdffit_grid_destroy(grid);
     brdffit_model_destroy(model);
@@ -191,6 +203,7 @@ static void check_default_bounds(const char *name, const double v[][8])
         best = fmax(best, top[0]);
     }
     assert_true(best > 0.8); /* the lobes kept, not switched off */
+    assert_int_equal(brdffit_fit_warnings(fit) & BRDFFIT_WARN_ALBEDO, 0);
     brdffit_fit_destroy(fit);
     brdffit_grid_destroy(grid);
     brdffit_model_destroy(model);

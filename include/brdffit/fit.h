@@ -572,7 +572,12 @@ BRDFFIT_API size_t brdffit_fit_history_all(const brdffit_fit *fit, double *cost,
  * - ::BRDFFIT_WARN_NO_DIFFUSE: a model with a diffuse colour "cd" and other
  *   terms fitted cd = 0 in every channel.
  * - ::BRDFFIT_WARN_ALBEDO: the diffuse albedo, cd (times 1 - Rs for a model
- *   with "Rs"), exceeds 1 in some channel: more light out than in.
+ *   with "Rs"), exceeds 1 in some channel: more light out than in; or a
+ *   specular lobe of a built-in model with a tabulated lobe albedo
+ *   (docs/fitting.md, Physical plausibility) reflects more than 1 at some
+ *   incidence angle of the tables by its colour times the tabulated bound,
+ *   by more than the tables' 3 % margin (so a lobe flagged is above 1 for
+ *   certain; one between 1 and 1.03 may pass unflagged).
  * - ::BRDFFIT_WARN_FRESNEL_VALLEY: a free Fresnel term "Rs" or "F0" above
  *   0.99 while some colour exceeds 1: the valley of the cost where the
  *   Fresnel term tends to 1 and the colours grow without bound.
@@ -598,7 +603,7 @@ BRDFFIT_API size_t brdffit_fit_history_all(const brdffit_fit *fit, double *cost,
 typedef enum brdffit_warning {
     BRDFFIT_WARN_AT_BOUND = 1,             /**< A free shape parameter on a bound. */
     BRDFFIT_WARN_NO_DIFFUSE = 2,           /**< No diffuse term in any channel. */
-    BRDFFIT_WARN_ALBEDO = 4,               /**< A diffuse albedo above 1. */
+    BRDFFIT_WARN_ALBEDO = 4,               /**< A diffuse or lobe albedo above 1. */
     BRDFFIT_WARN_FRESNEL_VALLEY = 8,       /**< Fresnel term -> 1 with colours above 1. */
     BRDFFIT_WARN_ITERATION_LIMIT = 16,     /**< The final LM run hit a limit. */
     BRDFFIT_WARN_STOPPED_EARLY = 32,       /**< Cancelled or stopped by the callback. */

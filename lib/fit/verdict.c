@@ -8,6 +8,7 @@
 
 #include "core/core.h"
 #include "fit/fit_internal.h"
+#include "models/lobes.h"
 
 /* A shape parameter this close to a finite bound (relative, in the units it
  * is optimised in) sits on it. */
@@ -19,6 +20,11 @@
 #define BF_FRESNEL_EDGE 0.99
 /* A colour below this fraction of the largest colour counts as 0. */
 #define BF_ZERO_COLOUR 1e-6
+/* A lobe's tabulated albedo bound (models/lobes.h) is at most 2.3 % above
+ * the integral (0.1 % quadrature plus twice a cell's largest midpoint
+ * excess, 1.1 %); a colour times the bound above 1 + this margin is a
+ * directional albedo above 1 for certain. */
+#define BF_LOBE_ALBEDO_MARGIN 0.03
 /* Radians given as degrees: every polar angle below pi/2 degrees. */
 #define BF_RADIAN_POLAR (BF_HALF_PI * BF_PI / 180.0)
 
@@ -133,6 +139,28 @@ static unsigned diffuse(verdict *v)
         return say(v, BRDFFIT_WARN_ALBEDO,
                    "the diffuse albedo is %g in channel %zu: above 1, not physical",
                    scale * top, c);
+    return 0;
+}
+
+/* Each specular lobe of a linear colour with a tabulated albedo: its
+ * largest directional albedo over the tables' incidence angles, colour
+ * times the bound, in every channel. */
+static unsigned lobe_albedo(verdict *v)
+{
+    const bf_lobes *lobes = bf_model_lobes(v->fit->model);
+    size_t i, c;
+    if (lobes == NULL) return 0;
+    for (i = 0; i < lobes->n; i++) {
+        const bf_lobe_desc *l = &lobes->lobe[i];
+        double f = l->fresnel == BF_NO_PARAM ? 1.0 : value(v, l->fresnel, 0);
+        double bound = bf_lobe_albedo_bound(l, value(v, l->shape, 0), f);
+        double top = channel_max(v, l->colour, &c);
+        if (bound > 0.0 && top * bound > 1.0 + BF_LOBE_ALBEDO_MARGIN)
+            return say(v, BRDFFIT_WARN_ALBEDO,
+                       "the directional albedo of the lobe of %s is about %.3g in channel %zu: "
+                       "above 1, not physical",
+                       param(v, l->colour)->name, top * bound, c);
+    }
     return 0;
 }
 
@@ -256,7 +284,9 @@ static unsigned mean(verdict *v)
 
 static unsigned judge(verdict *v)
 {
-    return at_bound(v) | diffuse(v) | fresnel(v) | stop(v) | lobes(v) | radians(v) | mean(v);
+    unsigned albedo = diffuse(v);
+    if (!(albedo & BRDFFIT_WARN_ALBEDO)) albedo |= lobe_albedo(v);
+    return at_bound(v) | albedo | fresnel(v) | stop(v) | lobes(v) | radians(v) | mean(v);
 }
 
 unsigned brdffit_fit_warnings(const brdffit_fit *fit)
