@@ -305,8 +305,7 @@ static brdffit_status collect(bf_stage *st, const double *x, double *params, dou
     st->cost = brdffit_optimizer_final_cost(st->opt);
     if (st->run->fit->sandwich) ok = prepare_sandwich(st, params, &status);
     if (status != BRDFFIT_OK) return status;
-    ok = ok && brdffit_optimizer_std_errors(st->opt, se) == BRDFFIT_OK &&
-         brdffit_optimizer_covariance(st->opt, st->cov) == BRDFFIT_OK;
+    ok = ok && bf_optim_std_errors_covariance(st->opt, se, st->cov) == BRDFFIT_OK;
     if (!ok) {
         memset(se, 0, n * sizeof *se);
         memset(st->cov, 0, n * n * sizeof *st->cov);
