@@ -38,9 +38,12 @@ static int try_assignment(size_t K, const double *G, const double *b, const doub
     double A[BF_LSQ_MAX * BF_LSQ_MAX], y[BF_LSQ_MAX], x[BF_LSQ_MAX];
     size_t idx[BF_LSQ_MAX], nf = 0, i, j;
     for (i = 0; i < K; i++) {
-        if (state[i] == 1) c[i] = lower[i];
-        else if (state[i] == 2) c[i] = upper[i];
-        else idx[nf++] = i;
+        if (state[i] == 1)
+            c[i] = lower[i];
+        else if (state[i] == 2)
+            c[i] = upper[i];
+        else
+            idx[nf++] = i;
         if (state[i] != 0 && !isfinite(c[i])) return 0;
     }
     for (i = 0; i < nf; i++) {
@@ -58,8 +61,10 @@ static int try_assignment(size_t K, const double *G, const double *b, const doub
     return 1;
 }
 
+/* Every assignment, the best kept; with free_first, the first (every
+ * variable free) alone when it is feasible. */
 static double enumerate(size_t K, const double *G, const double *b, const double *lower,
-                        const double *upper, double *c)
+                        const double *upper, double *c, int free_first)
 {
     int state[BF_LSQ_MAX];
     double trial[BF_LSQ_MAX], best = HUGE_VAL;
@@ -78,6 +83,7 @@ static double enumerate(size_t K, const double *G, const double *b, const double
             best = f;
             memcpy(c, trial, K * sizeof *c);
         }
+        if (code == 0 && free_first) break;
     }
     return best;
 }
@@ -115,8 +121,8 @@ static double gauss_seidel(size_t K, const double *G, const double *b, const dou
  * bases of very different magnitude (a constant diffuse term next to a
  * sharp lobe) do not spoil the conditioning. A variable whose basis is zero
  * has no effect and is set to the bound nearest 0. */
-double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
-                      const double *upper, double *c)
+static double bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
+                          const double *upper, double *c, int free_first)
 {
     double Gs[BF_LSQ_MAX * BF_LSQ_MAX], bs[BF_LSQ_MAX], lo[BF_LSQ_MAX], hi[BF_LSQ_MAX];
     double d[BF_LSQ_MAX], cs[BF_LSQ_MAX], f = HUGE_VAL;
@@ -130,8 +136,20 @@ double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *
         lo[i] = d[i] > 0.0 ? lower[i] / d[i] : clampd(0.0, lower[i], upper[i]);
         hi[i] = d[i] > 0.0 ? upper[i] / d[i] : lo[i];
     }
-    if (K <= 6) f = enumerate(K, Gs, bs, lo, hi, cs);
+    if (K <= 6) f = enumerate(K, Gs, bs, lo, hi, cs, free_first);
     if (!(f < HUGE_VAL)) f = gauss_seidel(K, Gs, bs, lo, hi, cs);
     for (i = 0; i < K; i++) c[i] = d[i] > 0.0 ? d[i] * cs[i] : lo[i];
     return f;
+}
+
+double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
+                      const double *upper, double *c)
+{
+    return bounded_lsq(K, G, b, lower, upper, c, 0);
+}
+
+double bf_bounded_lsq_quick(size_t K, const double *G, const double *b, const double *lower,
+                            const double *upper, double *c)
+{
+    return bounded_lsq(K, G, b, lower, upper, c, 1);
 }

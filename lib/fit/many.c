@@ -11,6 +11,7 @@
 
 #include "core/core.h"
 #include "fit/fit_internal.h"
+#include "fit/many_scan.h"
 #include "fit/pool.h"
 #include "grid/grid_internal.h"
 #include "models/models.h"
@@ -21,10 +22,10 @@
 #define BF_MANY_STEPS 256
 
 typedef struct many_worker {
-    brdffit_grid view;      /* the prototype's geometry, this thread's values */
-    double *values;         /* n_samples * n_channels: the view's values */
-    unsigned char *mask;    /* as many bytes: the view's missing mask */
-    brdffit_fit *fit;       /* private, over the view */
+    brdffit_grid view;   /* the prototype's geometry, this thread's values */
+    double *values;      /* n_samples * n_channels: the view's values */
+    unsigned char *mask; /* as many bytes: the view's missing mask */
+    brdffit_fit *fit;    /* private, over the view */
 } many_worker;
 
 typedef struct many_job {
@@ -35,14 +36,16 @@ typedef struct many_job {
     brdffit_many_out *out;
     brdffit_many_progress_fn progress;
     void *user;
-    size_t step, reported;    /* progress: report every step items; last count reported */
+    size_t step, reported; /* progress: report every step items; last count reported */
     many_worker *workers;
+    bf_batch batch; /* what every item shares (many_scan.h) */
     atomic_size_t next, done;
     atomic_int stop;
 } many_job;
 
 static void worker_free(many_worker *w, const brdffit_allocator *a)
 {
+    if (w->fit != NULL) bf_free(a, w->fit->batch_work);
     brdffit_fit_destroy(w->fit);
     bf_free(a, w->values);
 }
@@ -67,8 +70,9 @@ static void copy_options(brdffit_fit *dst, const brdffit_fit *src)
 static brdffit_status worker_init(many_worker *w, const brdffit_fit *proto, size_t per_item)
 {
     const brdffit_allocator *a = &proto->alloc;
-    /* doubles first, then the mask bytes: one block */
-    w->values = bf_malloc(a, per_item * (sizeof(double) + 1));
+    /* doubles first, then the mask bytes: one block; zero until an item's
+     * values are set (the batch's shared state reads none) */
+    w->values = bf_calloc(a, per_item, sizeof(double) + 1);
     if (w->values == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     w->mask = (unsigned char *)(w->values + per_item);
     bf_grid_view_init(&w->view, proto->grid, w->values);
@@ -84,8 +88,7 @@ static void set_nan(double *p, size_t n)
 }
 
 /* Item i's outputs: from the private fit after a success, else empty. */
-static void write_item(const many_job *job, const brdffit_fit *fit, size_t i,
-                       brdffit_status status)
+static void write_item(const many_job *job, const brdffit_fit *fit, size_t i, brdffit_status status)
 {
     brdffit_many_out *o = job->out;
     size_t nv = job->proto->n_vec;
@@ -182,6 +185,8 @@ static void run_all(many_job *job, size_t n)
     report(job, run, 1);
 }
 
+/* The workers, and what their items share, made on the first worker's
+ * fit; each worker's fit reads it with a scratch of its own. */
 static brdffit_status make_workers(many_job *job, size_t n)
 {
     const brdffit_allocator *a = &job->proto->alloc;
@@ -191,15 +196,25 @@ static brdffit_status make_workers(many_job *job, size_t n)
     for (t = 0; t < n; t++)
         if (worker_init(&job->workers[t], job->proto, job->per_item) != BRDFFIT_OK)
             return BRDFFIT_E_OUT_OF_MEMORY;
+    BF_RETURN_IF_ERROR(bf_batch_init(&job->batch, job->workers[0].fit));
+    for (t = 0; t < n; t++) {
+        brdffit_fit *fit = job->workers[t].fit;
+        fit->batch = &job->batch;
+        if (job->batch.work_size == 0) continue;
+        fit->batch_work = bf_calloc(a, job->batch.work_size, sizeof(double));
+        if (fit->batch_work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    }
     return BRDFFIT_OK;
 }
 
 static void free_workers(many_job *job, size_t n)
 {
     size_t t;
-    if (job->workers == NULL) return;
-    for (t = 0; t < n; t++) worker_free(&job->workers[t], &job->proto->alloc);
-    bf_free(&job->proto->alloc, job->workers);
+    if (job->workers != NULL) {
+        for (t = 0; t < n; t++) worker_free(&job->workers[t], &job->proto->alloc);
+        bf_free(&job->proto->alloc, job->workers);
+    }
+    bf_batch_free(&job->batch, &job->proto->alloc);
 }
 
 brdffit_status brdffit_fit_many(brdffit_fit *prototype, size_t n_items, const double *values,
@@ -220,8 +235,10 @@ brdffit_status brdffit_fit_many(brdffit_fit *prototype, size_t n_items, const do
         atomic_init(&job.done, 0);
         atomic_init(&job.stop, 0);
         st = make_workers(&job, n);
-        if (st == BRDFFIT_OK) run_all(&job, n);
-        else bf_say(prototype->message, st, "out of memory for the batch's threads");
+        if (st == BRDFFIT_OK)
+            run_all(&job, n);
+        else
+            bf_say(prototype->message, st, "out of memory for the batch's threads");
         free_workers(&job, n);
     } else if (st == BRDFFIT_OK) {
         out->n_run = 0;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/many_scan.h"
 #include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/varpro.h"
@@ -83,8 +84,11 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u)
 }
 
 /* bf_scan_profile_at() with the objective's colour steps started from
- * `warm` when that is better (profile_gn.h); warm may be NULL. */
-static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u,
+ * `warm` when that is better (profile_gn.h); warm may be NULL. `flat` is
+ * the grid point u is (its number in the flat order), or BF_SCAN_OFF_GRID:
+ * a grid point's sums come from a batch's shared scan basis when the fit
+ * has one (many_scan.h), else from a VARPRO pass. */
+static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u, size_t flat,
                                     const double *warm, double *cost)
 {
     brdffit_status status;
@@ -95,7 +99,12 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
     }
     bf_scan_set_point(st, sc, u);
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
-    status = bf_varpro_profile(st, cost);
+    if (flat != BF_SCAN_OFF_GRID && bf_batch_scan_sums(st, flat)) {
+        bf_varpro_solve(st, cost);
+        status = BRDFFIT_OK;
+    } else {
+        status = bf_varpro_profile(st, cost);
+    }
     if (status == BRDFFIT_OK) status = bf_profile_gn_from(st, warm, cost); /* the objective's */
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it
@@ -108,10 +117,9 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
     return bf_trace_scan(&st->run->result->trace, &st->run->fit->alloc, *cost);
 }
 
-brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
-                                  double *cost)
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u, double *cost)
 {
-    return profile_point(st, sc, u, NULL, cost);
+    return profile_point(st, sc, u, BF_SCAN_OFF_GRID, NULL, cost);
 }
 
 /* Keep the best BF_MAX_CANDIDATES local minima, best first. */
@@ -167,7 +175,7 @@ static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size
     int have = 0;
     for (flat = 0; flat < total && !st->run->cancelled; flat++) {
         flat_to_u(sc->dims, sc->nd, flat, u);
-        BF_RETURN_IF_ERROR(profile_point(st, sc, u, have ? warm : NULL, &f[flat]));
+        BF_RETURN_IF_ERROR(profile_point(st, sc, u, flat, have ? warm : NULL, &f[flat]));
         have = f[flat] < HUGE_VAL;
         if (have) memcpy(warm, st->p, st->n * sizeof *warm);
     }
@@ -178,11 +186,9 @@ static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size
 static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
 {
     const brdffit_allocator *a = &st->run->fit->alloc;
-    size_t total = 1, d, flat;
+    size_t total = bf_scan_points(sc), flat;
     double *f, u[BF_MAX_DIMS];
     brdffit_status status;
-    choose_counts(sc->dims, sc->nd);
-    for (d = 0; d < sc->nd; d++) total *= sc->dims[d].count;
     f = bf_calloc(a, total + st->n, sizeof *f); /* the costs, then the warm start */
     if (f == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (flat = 0; flat < total; flat++) f[flat] = HUGE_VAL; /* points a cancel leaves out */
@@ -201,11 +207,30 @@ static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
     return BRDFFIT_OK;
 }
 
-brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
+size_t bf_scan_layout(const bf_stage *st, bf_scan *sc)
 {
     sc->nd = find_dims(st, sc->dims);
     sc->n_best = 0;
-    if (sc->nd > 0) return find_candidates(st, sc);
+    if (sc->nd == 0) return 0;
+    choose_counts(sc->dims, sc->nd);
+    return bf_scan_points(sc);
+}
+
+size_t bf_scan_points(const bf_scan *sc)
+{
+    size_t total = 1, d;
+    for (d = 0; d < sc->nd; d++) total *= sc->dims[d].count;
+    return sc->nd > 0 ? total : 0;
+}
+
+void bf_scan_grid_point(const bf_scan *sc, size_t flat, double *u)
+{
+    flat_to_u(sc->dims, sc->nd, flat, u);
+}
+
+brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
+{
+    if (bf_scan_layout(st, sc) > 0) return find_candidates(st, sc);
     sc->best[0].cost = 0.0;
     sc->n_best = 1;
     return BRDFFIT_OK;
@@ -214,8 +239,8 @@ brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
 /* One golden-section step on [a, b] with interior points x1 < x2: the
  * bracket shrinks towards the lower of f1, f2 and one new point is
  * evaluated. */
-static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b,
-                                  double *x1, double *x2, double *f1, double *f2)
+static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b, double *x1,
+                                  double *x2, double *f1, double *f2)
 {
     const double g = 0.3819660112501051;
     if (*f1 <= *f2) {

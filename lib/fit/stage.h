@@ -22,6 +22,7 @@ typedef struct bf_run {
     bf_result *result;
     double delta; /* the objective's floor (brdffit_objective) */
     int cancelled;
+    int batch_ready; /* a batch's item products are in fit->batch_work (many_scan.h) */
 } bf_run;
 
 typedef struct bf_stage {
