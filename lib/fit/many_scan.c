@@ -113,7 +113,7 @@ static void pack(bf_batch *b, const double *cols)
     size_t j, q, r, row, c, L = b->L;
     for (c = 0; c < b->n_cols; c++)
         for (row = 0; row < b->n_rows; row++)
-            b->basis[row * b->n_cols + c] = cols[c * b->n_rows + row];
+            b->basis[row * b->stride + c] = cols[c * b->n_rows + row];
     for (j = 0; j < b->n_points; j++)
         for (q = 0; q < L; q++)
             for (r = 0; r < L; r++) {
@@ -162,7 +162,8 @@ static brdffit_status make_table(bf_batch *b, bf_stage *st, const brdffit_alloca
     if (status == BRDFFIT_OK) {
         fill_columns(b, st, &sc, form.n_shape, cols);
         b->n_cols = dedupe(b, cols);
-        b->basis = bf_calloc(a, b->n_rows * b->n_cols, sizeof *b->basis);
+        b->stride = (b->n_cols + BF_BATCH_COLS - 1) / BF_BATCH_COLS * BF_BATCH_COLS;
+        b->basis = bf_calloc(a, b->n_rows * b->stride, sizeof *b->basis);
         if (b->basis == NULL) status = BRDFFIT_E_OUT_OF_MEMORY;
     }
     if (status == BRDFFIT_OK) pack(b, cols);
@@ -226,13 +227,41 @@ void bf_batch_free(bf_batch *b, const brdffit_allocator *a)
 
 /* ---- an item's sums ----------------------------------------------------------------------- */
 
+/* Two lanes of a product: the baseline instruction set's vector, so that
+ * the block's eight sums stay in four registers (each lane adds in row
+ * order, as a scalar loop would); read where a double may lie (the
+ * caller's allocator promises no more alignment). */
+typedef double bf_lane2 __attribute__((vector_size(2 * sizeof(double)), aligned(sizeof(double))));
+
+/* (W R)^T B for columns [c, c + BF_BATCH_COLS) of one channel's y = W R
+ * into out (the columns past n_cols are padding, left out). */
+static void block_product(const bf_batch *b, const double *y, size_t c, double *out)
+{
+    bf_lane2 a0 = {0.0, 0.0}, a1 = a0, a2 = a0, a3 = a0;
+    double acc[BF_BATCH_COLS];
+    size_t row, n = b->n_cols - c < BF_BATCH_COLS ? b->n_cols - c : BF_BATCH_COLS;
+    for (row = 0; row < b->n_rows; row++) {
+        const bf_lane2 *x = (const bf_lane2 *)(b->basis + row * b->stride + c);
+        const bf_lane2 yr = {y[row], y[row]};
+        a0 += x[0] * yr;
+        a1 += x[1] * yr;
+        a2 += x[2] * yr;
+        a3 += x[3] * yr;
+    }
+    memcpy(acc, &a0, sizeof a0);
+    memcpy(acc + 2, &a1, sizeof a1);
+    memcpy(acc + 4, &a2, sizeof a2);
+    memcpy(acc + 6, &a3, sizeof a3);
+    memcpy(out, acc, n * sizeof *out);
+}
+
 /* The item's weighted values W R of every channel over the table's rows,
  * R^T W R, and (W R)^T B for every kept column, into fit->batch_work. */
 static void item_products(const bf_batch *b, const brdffit_fit *fit, const bf_problem *pb)
 {
     double *y = fit->batch_work, *prod = y + b->nc * b->n_rows, *rr = prod + b->nc * b->n_cols;
     double w[BF_CHUNK];
-    size_t m, ci, i, row, c, first, n;
+    size_t m, ci, i, c, first, n;
     for (m = 0; m < b->nc; m++) {
         const double *v = bf_grid_values(fit->grid, m);
         double *ym = y + m * b->n_rows, sum = 0.0;
@@ -249,13 +278,9 @@ static void item_products(const bf_batch *b, const brdffit_fit *fit, const bf_pr
         rr[m] = sum;
         memset(prod + m * b->n_cols, 0, b->n_cols * sizeof *prod);
     }
-    for (row = 0; row < b->n_rows; row++) {
-        const double *brow = b->basis + row * b->n_cols;
-        for (m = 0; m < b->nc; m++) {
-            double ym = y[m * b->n_rows + row], *pm = prod + m * b->n_cols;
-            for (c = 0; c < b->n_cols; c++) pm[c] += brow[c] * ym;
-        }
-    }
+    for (m = 0; m < b->nc; m++)
+        for (c = 0; c < b->n_cols; c += BF_BATCH_COLS)
+            block_product(b, y + m * b->n_rows, c, prod + m * b->n_cols + c);
 }
 
 int bf_batch_scan_sums(bf_stage *st, size_t flat)

@@ -34,6 +34,9 @@
  * points or samples takes the passes). */
 #define BF_BATCH_SCAN_MAX ((size_t)4 << 20)
 
+/* Columns of the basis multiplied at once (an item's product). */
+#define BF_BATCH_COLS 8
+
 typedef struct bf_batch {
     int has_plans;
     bf_weight_plan plan, plan_sa; /* over the first private fit's view, weights cached */
@@ -44,7 +47,8 @@ typedef struct bf_batch {
     size_t nc, L;          /* channels, basis functions (linear parameters) */
     size_t n_cols;         /* distinct columns */
     size_t *col;           /* n_points * L: the column of B_q at point j */
-    double *basis;         /* n_rows * n_cols, row-major: B, unweighted */
+    size_t stride;         /* n_cols rounded up to BF_BATCH_COLS */
+    double *basis;         /* n_rows * stride, row-major: B, unweighted (padding 0) */
     double *w2;            /* n_rows: w^2 of the stage's plan */
     double *coat;          /* n_rows: 1 / the clear coat's divisor, 1 without a coat */
     double *gram;          /* n_points * L * L: B^T W B */
