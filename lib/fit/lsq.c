@@ -38,12 +38,9 @@ static int try_assignment(size_t K, const double *G, const double *b, const doub
     double A[BF_LSQ_MAX * BF_LSQ_MAX], y[BF_LSQ_MAX], x[BF_LSQ_MAX];
     size_t idx[BF_LSQ_MAX], nf = 0, i, j;
     for (i = 0; i < K; i++) {
-        if (state[i] == 1)
-            c[i] = lower[i];
-        else if (state[i] == 2)
-            c[i] = upper[i];
-        else
-            idx[nf++] = i;
+        if (state[i] == 1) c[i] = lower[i];
+        else if (state[i] == 2) c[i] = upper[i];
+        else idx[nf++] = i;
         if (state[i] != 0 && !isfinite(c[i])) return 0;
     }
     for (i = 0; i < nf; i++) {

@@ -22,10 +22,10 @@
 #define BF_MANY_STEPS 256
 
 typedef struct many_worker {
-    brdffit_grid view;   /* the prototype's geometry, this thread's values */
-    double *values;      /* n_samples * n_channels: the view's values */
-    unsigned char *mask; /* as many bytes: the view's missing mask */
-    brdffit_fit *fit;    /* private, over the view */
+    brdffit_grid view;      /* the prototype's geometry, this thread's values */
+    double *values;         /* n_samples * n_channels: the view's values */
+    unsigned char *mask;    /* as many bytes: the view's missing mask */
+    brdffit_fit *fit;       /* private, over the view */
 } many_worker;
 
 typedef struct many_job {
@@ -36,9 +36,9 @@ typedef struct many_job {
     brdffit_many_out *out;
     brdffit_many_progress_fn progress;
     void *user;
-    size_t step, reported; /* progress: report every step items; last count reported */
+    size_t step, reported;    /* progress: report every step items; last count reported */
     many_worker *workers;
-    bf_batch batch; /* what every item shares (many_scan.h) */
+    bf_batch batch;           /* what every item shares (many_scan.h) */
     atomic_size_t next, done;
     atomic_int stop;
 } many_job;
@@ -88,7 +88,8 @@ static void set_nan(double *p, size_t n)
 }
 
 /* Item i's outputs: from the private fit after a success, else empty. */
-static void write_item(const many_job *job, const brdffit_fit *fit, size_t i, brdffit_status status)
+static void write_item(const many_job *job, const brdffit_fit *fit, size_t i,
+                       brdffit_status status)
 {
     brdffit_many_out *o = job->out;
     size_t nv = job->proto->n_vec;
@@ -235,10 +236,8 @@ brdffit_status brdffit_fit_many(brdffit_fit *prototype, size_t n_items, const do
         atomic_init(&job.done, 0);
         atomic_init(&job.stop, 0);
         st = make_workers(&job, n);
-        if (st == BRDFFIT_OK)
-            run_all(&job, n);
-        else
-            bf_say(prototype->message, st, "out of memory for the batch's threads");
+        if (st == BRDFFIT_OK) run_all(&job, n);
+        else bf_say(prototype->message, st, "out of memory for the batch's threads");
         free_workers(&job, n);
     } else if (st == BRDFFIT_OK) {
         out->n_run = 0;

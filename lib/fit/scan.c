@@ -239,8 +239,8 @@ brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
 /* One golden-section step on [a, b] with interior points x1 < x2: the
  * bracket shrinks towards the lower of f1, f2 and one new point is
  * evaluated. */
-static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b, double *x1,
-                                  double *x2, double *f1, double *f2)
+static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b,
+                                  double *x1, double *x2, double *f1, double *f2)
 {
     const double g = 0.3819660112501051;
     if (*f1 <= *f2) {
