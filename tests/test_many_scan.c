@@ -5,13 +5,15 @@
  * the basis equal a VARPRO pass's to rounding (1e-12 of the Cauchy-Schwarz
  * scale of each sum), for the lobe form (one scan dimension), the
  * microfacet form, Ashikhmin-Shirley's shader form (two dimensions), a
- * clear coat and the cube-root objective's weights. An item with a
+ * clear coat and the cube-root objective's weights; the point's cheap
+ * plausibility bounds are those computed there. An item with a
  * missing value, and a grid point past the basis, take the pass. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fit/many_scan.h"
+#include "fit/plausible.h"
 #include "fit/run.h"
 #include "fit/scan.h"
 #include "fit_fixtures.h"
@@ -97,20 +99,28 @@ static size_t check_points(setup *s)
     double u[BF_MAX_DIMS];
     size_t P = bf_scan_layout(st, &sc), n_acc = bf_pass_acc_size(&st->pb, BF_PASS_VARPRO), j, m;
     size_t L = s->batch.L, stride = 1 + L + L * L;
-    double *table = malloc(n_acc * sizeof *table);
+    double *table = malloc(n_acc * sizeof *table), *upper = malloc(3 * st->n * sizeof *upper);
     assert_non_null(table);
+    assert_non_null(upper);
     assert_int_equal(P, s->batch.n_points);
     assert_int_equal(n_acc, NC * stride);
     for (j = 0; j < P; j++) {
         bf_scan_grid_point(&sc, j, u);
         bf_scan_set_point(st, &sc, u);
+        /* the point's cheap plausibility bounds, as computed there */
+        assert_true(bf_batch_scan_bounds(st, j));
+        memcpy(upper, st->lower, 2 * st->n * sizeof *upper);
+        memcpy(upper + 2 * st->n, st->oupper, st->n * sizeof *upper);
+        assert_int_equal(bf_plausible_bounds(st, 0), BRDFFIT_OK);
+        assert_memory_equal(upper, st->lower, 2 * st->n * sizeof *upper);
+        assert_memory_equal(upper + 2 * st->n, st->oupper, st->n * sizeof *upper);
         assert_true(bf_batch_scan_sums(st, j));
         memcpy(table, st->acc, n_acc * sizeof *table);
         assert_int_equal(bf_stage_pass(st, BF_PASS_VARPRO), BRDFFIT_OK);
         for (m = 0; m < NC; m++) assert_sums_close(table + m * stride, st->acc + m * stride, L);
     }
     assert_false(bf_batch_scan_sums(st, P)); /* past the basis: the pass */
-    free(table);
+    free(table), free(upper);
     return P;
 }
 
@@ -155,6 +165,7 @@ static void test_lobe_form(void **state)
     assert_int_equal(check_points(&s), 19);
     assert_int_equal(s.batch.L, 2);
     assert_int_equal(s.batch.n_cols, 19 + 1);
+    assert_true(s.batch.has_bounds);
     tear_down(&s);
 }
 

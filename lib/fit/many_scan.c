@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/plausible.h"
 #include "fit/run.h"
 #include "fit/scan.h"
 
@@ -65,6 +66,7 @@ static void fill_columns(bf_batch *b, bf_stage *st, const bf_scan *sc, size_t n_
         bf_scan_grid_point(sc, j, u);
         bf_scan_set_point(st, sc, u);
         for (k = 0; k < n_shape; k++) shape[k] = st->p[st->vindex[k * pb->nc]];
+        b->has_bounds = bf_plausible_cheap(st, b->bounds + j * b->L);
         b->usable[j] = 1;
         for (ci = 0; ci < pb->plan->n_chunks; ci++) {
             brdffit_batch geo;
@@ -130,12 +132,13 @@ static brdffit_status alloc_table(bf_batch *b, const brdffit_allocator *a, doubl
     size_t P = b->n_points, L = b->L;
     *cols = bf_calloc(a, P * L * b->n_rows, sizeof **cols);
     b->col = bf_calloc(a, P * L, sizeof *b->col);
-    b->w2 = bf_calloc(a, 2 * b->n_rows + P * L * L, sizeof *b->w2);
+    b->w2 = bf_calloc(a, 2 * b->n_rows + P * L * L + P * L, sizeof *b->w2);
     b->usable = bf_calloc(a, P, 1);
     if (*cols == NULL || b->col == NULL || b->w2 == NULL || b->usable == NULL)
         return BRDFFIT_E_OUT_OF_MEMORY;
     b->coat = b->w2 + b->n_rows;
     b->gram = b->coat + b->n_rows;
+    b->bounds = b->gram + P * L * L;
     return BRDFFIT_OK;
 }
 
@@ -283,15 +286,30 @@ static void item_products(const bf_batch *b, const brdffit_fit *fit, const bf_pr
             block_product(b, y + m * b->n_rows, c, prod + m * b->n_cols + c);
 }
 
+/* Whether the batch's scan basis serves auto's stage st at grid point
+ * flat (the sums need an item without a missing value as well). */
+static int serves(const bf_stage *st, size_t flat)
+{
+    const bf_batch *b = st->run->fit->batch;
+    return b != NULL && flat < b->n_points && st->pb.nc == b->nc &&
+           st->pb.source == BF_SOURCE_CHANNELS;
+}
+
+int bf_batch_scan_bounds(bf_stage *st, size_t flat)
+{
+    const bf_batch *b = st->run->fit->batch;
+    if (!serves(st, flat)) return 0;
+    if (b->has_bounds) bf_plausible_apply(st, b->bounds + flat * b->L);
+    return 1;
+}
+
 int bf_batch_scan_sums(bf_stage *st, size_t flat)
 {
     const brdffit_fit *fit = st->run->fit;
     const bf_batch *b = fit->batch;
     const double *prod, *rr, *G;
     size_t L, stride, m, q, r;
-    if (b == NULL || flat >= b->n_points || !b->usable[flat] || st->pb.nc != b->nc ||
-        st->pb.source != BF_SOURCE_CHANNELS || bf_grid_has_missing(fit->grid))
-        return 0;
+    if (!serves(st, flat) || !b->usable[flat] || bf_grid_has_missing(fit->grid)) return 0;
     if (!st->run->batch_ready) {
         item_products(b, fit, &st->pb);
         st->run->batch_ready = 1;

@@ -7,8 +7,9 @@
  *   weight again.
  * - For the auto pipeline of a model in basis form (models/basis.h): the
  *   scan basis, the values of the basis functions B_q at every grid point
- *   of auto's scan (scan.h) on every active sample, and their weighted
- *   Gram matrices B^T W B, W = diag(w^2). Only the values differ between
+ *   of auto's scan (scan.h) on every active sample, their weighted Gram
+ *   matrices B^T W B, W = diag(w^2), and the point's cheap plausibility
+ *   bounds (plausible.h). Only the values differ between
  *   items, so an item's VARPRO sums at a grid point (pass.h: R^T W R,
  *   B^T W R, B^T W B per channel) come from one product of its values with
  *   the basis, (W R)^T B for every grid point at once, computed once per
@@ -52,6 +53,8 @@ typedef struct bf_batch {
     double *w2;            /* n_rows: w^2 of the stage's plan */
     double *coat;          /* n_rows: 1 / the clear coat's divisor, 1 without a coat */
     double *gram;          /* n_points * L * L: B^T W B */
+    double *bounds;        /* n_points * L: the cheap plausibility bounds (plausible.h) */
+    int has_bounds;        /* plausibility sets them */
     unsigned char *usable; /* n_points: 1 where the basis is finite */
     size_t work_size;      /* doubles of one thread's scratch (fit->batch_work) */
 } bf_batch;
@@ -75,5 +78,11 @@ int bf_batch_plans(const brdffit_fit *fit, bf_weight_plan *plan, bf_weight_plan 
  * sums are finite); else 0, and the caller runs the pass. The first call
  * of a run computes the item's product with the basis. */
 int bf_batch_scan_sums(bf_stage *st, size_t flat);
+
+/* The cheap plausibility bounds of grid point `flat` (what
+ * bf_plausible_bounds(st, 0) sets there, computed once per batch) set in
+ * st, when the fit has a scan basis that serves the point; else 0, and the
+ * caller computes them. */
+int bf_batch_scan_bounds(bf_stage *st, size_t flat);
 
 #endif

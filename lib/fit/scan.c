@@ -98,7 +98,8 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
-    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
+    if (flat == BF_SCAN_OFF_GRID || !bf_batch_scan_bounds(st, flat))
+        BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
     if (flat != BF_SCAN_OFF_GRID && bf_batch_scan_sums(st, flat)) {
         bf_varpro_solve(st, cost);
         status = BRDFFIT_OK;
