@@ -6,7 +6,8 @@
  * scale of each sum), for the lobe form (one scan dimension), the
  * microfacet form, Ashikhmin-Shirley's shader form (two dimensions), a
  * clear coat and the cube-root objective's weights; the point's cheap
- * plausibility bounds are those computed there. An item with a
+ * plausibility bounds are those computed there, and the basis handed to
+ * the colour steps is the kernel's. An item with a
  * missing value, and a grid point past the basis, take the pass. */
 #include <math.h>
 #include <stdlib.h>
@@ -90,6 +91,32 @@ static void assert_sums_close(const double *a, const double *b, size_t L)
     }
 }
 
+/* The basis the batch hands the colour steps at a grid point (st->p set
+ * there) is the kernel's, bit for bit, on every row of the plan. */
+static void check_point_basis(const bf_stage *st, size_t flat, size_t L)
+{
+    const size_t *col;
+    size_t stride, n_rows, ci, i, q, first, n, k;
+    const double *basis = bf_batch_point_basis(st, flat, &col, &stride, &n_rows);
+    double w[BF_CHUNK], shape[BF_KERNEL_MAX_SHAPE];
+    bf_basis_form form;
+    assert_non_null(basis);
+    assert_int_equal(n_rows, st->pb.plan->n_chunks * BF_CHUNK);
+    bf_kernel_form(st->pb.kernel, &form);
+    for (k = 0; k < form.n_shape; k++) shape[k] = st->p[st->vindex[k * st->pb.nc]];
+    for (ci = 0; ci < st->pb.plan->n_chunks; ci++) {
+        brdffit_batch geo;
+        bf_basis bb;
+        bf_weight_plan_chunk(st->pb.plan, ci, &first, &n, w);
+        bf_grid_batch(st->pb.grid, first, n, &geo);
+        bf_kernel_basis(st->pb.kernel, &geo, 0, n, shape, &bb);
+        for (i = 0; i < n; i++)
+            for (q = 0; q < L; q++)
+                assert_memory_equal(&basis[(ci * BF_CHUNK + i) * stride + col[q]], &bb.b[q][i],
+                                    sizeof(double));
+    }
+}
+
 /* Every grid point: the basis's sums against a VARPRO pass's. Returns the
  * number of points. */
 static size_t check_points(setup *s)
@@ -114,6 +141,7 @@ static size_t check_points(setup *s)
         assert_int_equal(bf_plausible_bounds(st, 0), BRDFFIT_OK);
         assert_memory_equal(upper, st->lower, 2 * st->n * sizeof *upper);
         assert_memory_equal(upper + 2 * st->n, st->oupper, st->n * sizeof *upper);
+        check_point_basis(st, j, L);
         assert_true(bf_batch_scan_sums(st, j));
         memcpy(table, st->acc, n_acc * sizeof *table);
         assert_int_equal(bf_stage_pass(st, BF_PASS_VARPRO), BRDFFIT_OK);

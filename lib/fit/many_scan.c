@@ -295,6 +295,17 @@ static int serves(const bf_stage *st, size_t flat)
            st->pb.source == BF_SOURCE_CHANNELS;
 }
 
+const double *bf_batch_point_basis(const bf_stage *st, size_t flat, const size_t **col,
+                                   size_t *stride, size_t *n_rows)
+{
+    const bf_batch *b = st->run->fit->batch;
+    if (!serves(st, flat) || !b->usable[flat]) return NULL;
+    *col = b->col + flat * b->L;
+    *stride = b->stride;
+    *n_rows = b->n_rows;
+    return b->basis;
+}
+
 int bf_batch_scan_bounds(bf_stage *st, size_t flat)
 {
     const bf_batch *b = st->run->fit->batch;

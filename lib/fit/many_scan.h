@@ -79,6 +79,18 @@ int bf_batch_plans(const brdffit_fit *fit, bf_weight_plan *plan, bf_weight_plan 
  * of a run computes the item's product with the basis. */
 int bf_batch_scan_sums(bf_stage *st, size_t flat);
 
+/* The scan basis at auto's grid point `flat`, for the colour steps of a
+ * non-squares objective (profile_gn.h; st->scan_point names the point
+ * while they run): B_q at row r is basis[r * *stride + col[q]], for the
+ * q < L linear parameters, rows r of the stage's plan (chunk r / BF_CHUNK,
+ * its sample r % BF_CHUNK; rows past a chunk's end hold 0); NULL when the
+ * batch has no basis serving the point (then the steps take passes). The
+ * steps' rows are w (f(B c) - f(R)) with w the plan's weights and R the
+ * item's values (times 1 / the coat's divisor), so a step needs no
+ * model evaluation. */
+const double *bf_batch_point_basis(const bf_stage *st, size_t flat, const size_t **col,
+                                   size_t *stride, size_t *n_rows);
+
 /* The cheap plausibility bounds of grid point `flat` (what
  * bf_plausible_bounds(st, 0) sets there, computed once per batch) set in
  * st, when the fit has a scan basis that serves the point; else 0, and the

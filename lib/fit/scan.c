@@ -106,7 +106,9 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
     } else {
         status = bf_varpro_profile(st, cost);
     }
+    st->scan_point = flat; /* the colour steps may read the point's basis (many_scan.h) */
     if (status == BRDFFIT_OK) status = bf_profile_gn_from(st, warm, cost); /* the objective's */
+    st->scan_point = BF_SCAN_OFF_GRID;
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it
      * is not recorded in the trace, which holds the costs evaluated */

@@ -112,6 +112,7 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
     size_t n, n_acc;
     memset(st, 0, sizeof *st);
     st->run = run;
+    st->scan_point = (size_t)-1;
     fill_problem(st, nc, source, source_channel);
     n = st->pb.ly.n_vec;
     st->n = n;
