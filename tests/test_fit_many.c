@@ -146,6 +146,30 @@ static void auto_unbounded_options(brdffit_fit *fit)
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_COVARIANCE, 1), 0);
 }
 
+/* Auto settings that change what the batch's shared scan basis holds
+ * (many_scan.h): the cube-root objective (VARPRO weighs by the solid
+ * angle alone, and colour steps follow every scan point); a clear coat,
+ * the cosine weighting and a smaller cap; a held colour (a constant of the
+ * scan's colour solves). */
+static void cube_root_options(brdffit_fit *fit)
+{
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_CUBE_ROOT), 0);
+}
+
+static void coat_options(brdffit_fit *fit)
+{
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, 0.04), 0);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_WEIGHTING, BRDFFIT_WEIGHT_COSINE), 0);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_CAP, DEG(60.0)), 0);
+}
+
+static void held_colour_options(brdffit_fit *fit)
+{
+    double start[NV] = {100.0, 0.1, 0.1, 0.1, 0.05, 0.05, 0.05};
+    assert_int_equal(brdffit_fit_set_start(fit, start), 0);
+    assert_int_equal(brdffit_fit_set_fixed(fit, 2, 1), 0); /* cs */
+}
+
 /* Item i fitted alone: a grid of its own, a fit with one thread. */
 static void single_fit(const brdffit_model *m, const geometry *g, const double *values,
                        const unsigned char *missing, options_fn options, results *r, size_t i)
@@ -303,6 +327,16 @@ static void test_auto_settings_equal_single_fits(void **state)
     brdffit_model_destroy(m);
     free(on), free(off);
     check_against_single(auto_unbounded_options, n, NULL, values); /* frees values */
+}
+
+/* The batch's scan takes its sums from the shared basis; the results
+ * stay those of single fits bit for bit under these settings too. */
+static void test_auto_variants_equal_single_fits(void **state)
+{
+    (void)state;
+    check_against_single(cube_root_options, 6, NULL, NULL);
+    check_against_single(coat_options, 8, NULL, NULL);
+    check_against_single(held_colour_options, 8, NULL, NULL);
 }
 
 /* Missing values, a NaN, an item with nothing present, an item too large
@@ -634,6 +668,7 @@ int main(void)
         cmocka_unit_test(test_auto_equals_single_fits),
         cmocka_unit_test(test_joint_options_equal_single_fits),
         cmocka_unit_test(test_auto_settings_equal_single_fits),
+        cmocka_unit_test(test_auto_variants_equal_single_fits),
         cmocka_unit_test(test_bad_items),
         cmocka_unit_test(test_bad_item_statuses),
         cmocka_unit_test(test_regular_grid),

@@ -2,7 +2,9 @@
  * blocks.c): a linear least-squares problem shaped like a fit of many
  * channels (a few shared parameters, small per-channel blocks) against
  * the inverse of J^T J computed here by Gauss-Jordan elimination; the time
- * they take for 400 channels; and the stop requests of the O(n^3) linear
+ * they take for 400 channels; the fit's one call for both
+ * (bf_optim_std_errors_covariance()) against the two accessors, bit for
+ * bit; and the stop requests of the O(n^3) linear
  * algebra (the fit's cancel reaches them through optim/watch.h). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
@@ -14,6 +16,7 @@
 #include "core/linalg.h"
 #include "fit_fixtures.h"
 #include "grid_fixtures.h"
+#include "optim/sandwich.h"
 #include "test_support.h"
 
 
@@ -142,6 +145,10 @@ static void check_arrow(size_t h, size_t k, size_t nc, size_t dead)
     assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_std_errors(opt, se), BRDFFIT_OK);
     assert_int_equal(brdffit_optimizer_covariance(opt, cov), BRDFFIT_OK);
+    /* both at once, as the fit takes them: the same bits */
+    assert_int_equal(bf_optim_std_errors_covariance(opt, jtr, inv), BRDFFIT_OK);
+    assert_memory_equal(jtr, se, a.p * sizeof *se);
+    assert_memory_equal(inv, cov, a.p * a.p * sizeof *cov);
     assert_int_equal(arrow_normal(x, &cost, jtj, jtr, &a), BRDFFIT_OK);
     f = brdffit_optimizer_final_cost(opt) / (double)(a.rows - a.p);
     for (j = 0; j < a.p; j++)

@@ -15,11 +15,22 @@
  * values are replaced per item: no handle and no copy of the geometry is
  * made per item. Results go into the caller's arrays (::brdffit_many_out).
  *
+ * What depends on the geometry and options alone is computed once per
+ * call and shared by every item: the weights and, for the auto pipeline of
+ * a built-in model, the model's basis at every point of auto's scan, so
+ * that an item's scan needs no pass over the samples (docs/fitting.md,
+ * Many fits over one geometry).
+ *
  * Item i's result is bit for bit what brdffit_fit_run() gives for a fit with
  * the prototype's options and ::BRDFFIT_FIT_THREADS 1, on a grid made by the
  * same constructor from the same directions (and sample weights) with
  * item i's values: it depends neither on the thread count nor on which
- * thread ran the item. The prototype's iteration callback
+ * thread ran the item. One exception: the shared scan sums in another
+ * order than a pass, so where two points of auto's scan have costs equal
+ * to within rounding (~1e-15 relative) the batch may polish from the
+ * neighbouring point; when both polishes reach the same minimum the
+ * results agree to the polish's tolerance. No such tie has been seen in
+ * the tests or benchmarks. The prototype's iteration callback
  * (brdffit_fit_set_callback()) is not called; the batch has a progress
  * callback of its own.
  */
@@ -124,8 +135,10 @@ extern "C" {
  *         cannot be allocated (nothing is run). On failure no item is run
  *         and brdffit_fit_message(prototype) says why.
  *
- * Memory: per thread, one private fit and n_samples * n_channels doubles
- * and bytes, all through the prototype's allocator and freed before the
+ * Memory: per thread, one private fit, n_samples * n_channels doubles
+ * and bytes and a scratch of the scan's products; per call, the shared
+ * weights and scan basis (8 bytes per active sample and basis column, at
+ * most 4 MB); all through the prototype's allocator and freed before the
  * call returns.
  *
  * Thread safety: @p prototype must not be used by another thread during

@@ -37,6 +37,12 @@ struct brdffit_fit {
     atomic_int cancel;
     int running; /* inside brdffit_fit_run(): changes are refused */
 
+    /* brdffit_fit_many()'s private fits: what every item of the batch
+     * shares, read only, and this thread's scratch for it (many_scan.h);
+     * NULL for every other fit */
+    const struct bf_batch *batch;
+    double *batch_work;
+
     /* the last run's result (valid when has_result; passes always) */
     int has_result;
     bf_result result;

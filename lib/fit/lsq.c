@@ -58,8 +58,10 @@ static int try_assignment(size_t K, const double *G, const double *b, const doub
     return 1;
 }
 
+/* Every assignment, the best kept; with free_first, the first (every
+ * variable free) alone when it is feasible. */
 static double enumerate(size_t K, const double *G, const double *b, const double *lower,
-                        const double *upper, double *c)
+                        const double *upper, double *c, int free_first)
 {
     int state[BF_LSQ_MAX];
     double trial[BF_LSQ_MAX], best = HUGE_VAL;
@@ -78,6 +80,7 @@ static double enumerate(size_t K, const double *G, const double *b, const double
             best = f;
             memcpy(c, trial, K * sizeof *c);
         }
+        if (code == 0 && free_first) break;
     }
     return best;
 }
@@ -111,12 +114,48 @@ static double gauss_seidel(size_t K, const double *G, const double *b, const dou
     return objective(K, G, b, c);
 }
 
+/* The bounded minimum of two variables in closed form into c and its
+ * objective into *f, when G is safely positive definite (else 0): the
+ * unconstrained minimiser when it lies inside the bounds; otherwise the
+ * minimum lies on the box's boundary, and on each edge (one variable at a
+ * finite bound) it is the other's one-dimensional minimiser clamped into
+ * its bounds (the problem is strictly convex). */
+static int bounded_pair(const double *G, const double *b, const double *lower,
+                        const double *upper, double *c, double *f)
+{
+    double det = G[0] * G[3] - G[1] * G[2], t[2];
+    size_t i, side;
+    if (!(det > 1e-12 * G[0] * G[3])) return 0;
+    c[0] = (G[3] * b[0] - G[1] * b[1]) / det;
+    c[1] = (G[0] * b[1] - G[2] * b[0]) / det;
+    if (c[0] >= lower[0] && c[0] <= upper[0] && c[1] >= lower[1] && c[1] <= upper[1]) {
+        *f = objective(2, G, b, c);
+        return 1;
+    }
+    *f = HUGE_VAL;
+    for (i = 0; i < 2; i++)
+        for (side = 0; side < 2; side++) {
+            size_t j = 1 - i;
+            double v;
+            t[i] = side ? upper[i] : lower[i];
+            if (!isfinite(t[i])) continue;
+            t[j] = clampd((b[j] - G[j * 2 + i] * t[i]) / G[j * 2 + j], lower[j], upper[j]);
+            v = objective(2, G, b, t);
+            if (v < *f) {
+                *f = v;
+                c[0] = t[0];
+                c[1] = t[1];
+            }
+        }
+    return *f < HUGE_VAL;
+}
+
 /* Solve in Jacobi-scaled variables c = D c', D = diag(G)^(-1/2), so that
  * bases of very different magnitude (a constant diffuse term next to a
  * sharp lobe) do not spoil the conditioning. A variable whose basis is zero
  * has no effect and is set to the bound nearest 0. */
-double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
-                      const double *upper, double *c)
+static double bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
+                          const double *upper, double *c, int free_first)
 {
     double Gs[BF_LSQ_MAX * BF_LSQ_MAX], bs[BF_LSQ_MAX], lo[BF_LSQ_MAX], hi[BF_LSQ_MAX];
     double d[BF_LSQ_MAX], cs[BF_LSQ_MAX], f = HUGE_VAL;
@@ -130,8 +169,24 @@ double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *
         lo[i] = d[i] > 0.0 ? lower[i] / d[i] : clampd(0.0, lower[i], upper[i]);
         hi[i] = d[i] > 0.0 ? upper[i] / d[i] : lo[i];
     }
-    if (K <= 6) f = enumerate(K, Gs, bs, lo, hi, cs);
+    if (free_first && K == 2 && bounded_pair(Gs, bs, lo, hi, cs, &f)) {
+        /* done in closed form */
+    } else if (K <= 6) {
+        f = enumerate(K, Gs, bs, lo, hi, cs, free_first);
+    }
     if (!(f < HUGE_VAL)) f = gauss_seidel(K, Gs, bs, lo, hi, cs);
     for (i = 0; i < K; i++) c[i] = d[i] > 0.0 ? d[i] * cs[i] : lo[i];
     return f;
+}
+
+double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
+                      const double *upper, double *c)
+{
+    return bounded_lsq(K, G, b, lower, upper, c, 0);
+}
+
+double bf_bounded_lsq_quick(size_t K, const double *G, const double *b, const double *lower,
+                            const double *upper, double *c)
+{
+    return bounded_lsq(K, G, b, lower, upper, c, 1);
 }

@@ -14,4 +14,13 @@
 double bf_bounded_lsq(size_t K, const double *G, const double *b, const double *lower,
                       const double *upper, double *c);
 
+/* bf_bounded_lsq(), but when every variable's unconstrained minimiser lies
+ * inside the bounds it is returned without trying the other active sets
+ * (the full enumeration could prefer one of those only by rounding: the
+ * problem is convex), and two variables are solved in closed form (the
+ * boundary's minimum edge by edge): the same minimum up to rounding. For
+ * the many scan points of a batch (varpro.h). */
+double bf_bounded_lsq_quick(size_t K, const double *G, const double *b, const double *lower,
+                            const double *upper, double *c);
+
 #endif

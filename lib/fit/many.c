@@ -11,6 +11,7 @@
 
 #include "core/core.h"
 #include "fit/fit_internal.h"
+#include "fit/many_scan.h"
 #include "fit/pool.h"
 #include "grid/grid_internal.h"
 #include "models/models.h"
@@ -37,12 +38,14 @@ typedef struct many_job {
     void *user;
     size_t step, reported;    /* progress: report every step items; last count reported */
     many_worker *workers;
+    bf_batch batch;           /* what every item shares (many_scan.h) */
     atomic_size_t next, done;
     atomic_int stop;
 } many_job;
 
 static void worker_free(many_worker *w, const brdffit_allocator *a)
 {
+    if (w->fit != NULL) bf_free(a, w->fit->batch_work);
     brdffit_fit_destroy(w->fit);
     bf_free(a, w->values);
 }
@@ -67,8 +70,9 @@ static void copy_options(brdffit_fit *dst, const brdffit_fit *src)
 static brdffit_status worker_init(many_worker *w, const brdffit_fit *proto, size_t per_item)
 {
     const brdffit_allocator *a = &proto->alloc;
-    /* doubles first, then the mask bytes: one block */
-    w->values = bf_malloc(a, per_item * (sizeof(double) + 1));
+    /* doubles first, then the mask bytes: one block; zero until an item's
+     * values are set (the batch's shared state reads none) */
+    w->values = bf_calloc(a, per_item, sizeof(double) + 1);
     if (w->values == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     w->mask = (unsigned char *)(w->values + per_item);
     bf_grid_view_init(&w->view, proto->grid, w->values);
@@ -182,6 +186,8 @@ static void run_all(many_job *job, size_t n)
     report(job, run, 1);
 }
 
+/* The workers, and what their items share, made on the first worker's
+ * fit; each worker's fit reads it with a scratch of its own. */
 static brdffit_status make_workers(many_job *job, size_t n)
 {
     const brdffit_allocator *a = &job->proto->alloc;
@@ -191,15 +197,25 @@ static brdffit_status make_workers(many_job *job, size_t n)
     for (t = 0; t < n; t++)
         if (worker_init(&job->workers[t], job->proto, job->per_item) != BRDFFIT_OK)
             return BRDFFIT_E_OUT_OF_MEMORY;
+    BF_RETURN_IF_ERROR(bf_batch_init(&job->batch, job->workers[0].fit));
+    for (t = 0; t < n; t++) {
+        brdffit_fit *fit = job->workers[t].fit;
+        fit->batch = &job->batch;
+        if (job->batch.work_size == 0) continue;
+        fit->batch_work = bf_calloc(a, job->batch.work_size, sizeof(double));
+        if (fit->batch_work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    }
     return BRDFFIT_OK;
 }
 
 static void free_workers(many_job *job, size_t n)
 {
     size_t t;
-    if (job->workers == NULL) return;
-    for (t = 0; t < n; t++) worker_free(&job->workers[t], &job->proto->alloc);
-    bf_free(&job->proto->alloc, job->workers);
+    if (job->workers != NULL) {
+        for (t = 0; t < n; t++) worker_free(&job->workers[t], &job->proto->alloc);
+        bf_free(&job->proto->alloc, job->workers);
+    }
+    bf_batch_free(&job->batch, &job->proto->alloc);
 }
 
 brdffit_status brdffit_fit_many(brdffit_fit *prototype, size_t n_items, const double *values,

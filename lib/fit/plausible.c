@@ -107,18 +107,45 @@ static void lobe_bounds(const bf_stage *st, size_t K, double *bound)
     }
 }
 
+/* Whether plausibility bounds the stage's colours at all: an affine
+ * model's colour (layout.h) keeps its declared bounds (its unit term
+ * carries the colour-free offset, no albedo of c alone). */
+static int bounded(const bf_stage *st)
+{
+    size_t K = st->pb.ly.n_linear;
+    return st->run->fit->plausible && K > 0 && K <= BF_LSQ_MAX && !st->pb.ly.offset;
+}
+
+int bf_plausible_cheap(const bf_stage *st, double *bound)
+{
+    size_t K = st->pb.ly.n_linear, q;
+    if (!bounded(st)) return 0;
+    for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
+    lobe_bounds(st, K, bound);
+    diffuse_bound(st, K, bound);
+    return 1;
+}
+
 brdffit_status bf_plausible_bounds(bf_stage *st, int full)
+{
+    size_t K = st->pb.ly.n_linear, q;
+    double bound[BF_LSQ_MAX];
+    if (!(full && st->run->fit->plausible >= 2)) {
+        if (bf_plausible_cheap(st, bound)) bf_plausible_apply(st, bound);
+        return BRDFFIT_OK;
+    }
+    if (!bounded(st)) return BRDFFIT_OK;
+    for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
+    BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
+    diffuse_bound(st, K, bound);
+    bf_plausible_apply(st, bound);
+    return BRDFFIT_OK;
+}
+
+void bf_plausible_apply(bf_stage *st, const double *bound)
 {
     const bf_problem *pb = &st->pb;
     size_t K = pb->ly.n_linear, q, m;
-    double bound[BF_LSQ_MAX];
-    /* an affine model's colour (layout.h) keeps its declared bounds: its
-     * unit term carries the colour-free offset, no albedo of c alone */
-    if (!st->run->fit->plausible || K == 0 || K > BF_LSQ_MAX || pb->ly.offset) return BRDFFIT_OK;
-    for (q = 0; q < K; q++) bound[q] = HUGE_VAL;
-    if (full && st->run->fit->plausible >= 2) BF_RETURN_IF_ERROR(term_bounds(st, K, bound));
-    else lobe_bounds(st, K, bound);
-    diffuse_bound(st, K, bound);
     for (q = 0; q < K; q++) {
         double declared = brdffit_model_param(pb->model, pb->ly.linear[q])->upper;
         for (m = 0; m < pb->nc; m++) {
@@ -129,7 +156,6 @@ brdffit_status bf_plausible_bounds(bf_stage *st, int full)
             st->oupper[e] = st->logs[e] ? log(hi) : hi;
         }
     }
-    return BRDFFIT_OK;
 }
 
 int bf_plausible_within(const bf_stage *st, const double *params)

@@ -7,6 +7,7 @@
 #include "core/core.h"
 #include "fit/baseline.h"
 #include "fit/canonical.h"
+#include "fit/many_scan.h"
 #include "fit/pipelines.h"
 
 /* Indexed by brdffit_pipeline. */
@@ -17,30 +18,48 @@ static const bf_pipeline_fn pipelines[] = {bf_pipeline_auto, bf_pipeline_joint,
  * objectives. Cells without solid angle (one theta_o or one phi_o inside
  * the cap) are no reason to refuse a fit whose own weights do not use it:
  * the samples then count alike. */
-static brdffit_status make_plan_sa(bf_run *run, brdffit_error *err)
+static brdffit_status make_plan_sa(const brdffit_fit *fit, bf_weight_plan *plan_sa,
+                                   brdffit_error *err)
 {
-    const brdffit_fit *fit = run->fit;
-    brdffit_status status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap,
+    brdffit_status status = bf_weight_plan_init(plan_sa, fit->grid, fit->cap,
                                                 BRDFFIT_WEIGHT_SOLID_ANGLE, &fit->alloc, err);
     if (status == BRDFFIT_E_NO_DATA && !(fit->weighting & BRDFFIT_WEIGHT_SOLID_ANGLE))
-        status = bf_weight_plan_init(&run->plan_sa, fit->grid, fit->cap, 0, &fit->alloc, err);
+        status = bf_weight_plan_init(plan_sa, fit->grid, fit->cap, 0, &fit->alloc, err);
     return status;
 }
 
+brdffit_status bf_run_plans(const brdffit_fit *fit, bf_weight_plan *plan, bf_weight_plan *plan_sa,
+                            brdffit_error *err)
+{
+    brdffit_status status =
+        bf_weight_plan_init(plan, fit->grid, fit->cap, fit->weighting, &fit->alloc, err);
+    if (status == BRDFFIT_OK) {
+        status = make_plan_sa(fit, plan_sa, err);
+        if (status != BRDFFIT_OK) bf_weight_plan_free(plan, &fit->alloc);
+    }
+    return status;
+}
+
+/* The run's plans: a batch's shared ones (many_scan.h), read over this
+ * fit's grid, or the fit's own. */
 static brdffit_status make_plans(bf_run *run)
 {
     const brdffit_fit *fit = run->fit;
     brdffit_error err;
-    brdffit_status status =
-        bf_weight_plan_init(&run->plan, fit->grid, fit->cap, fit->weighting, &fit->alloc, &err);
-    if (status == BRDFFIT_OK) {
-        status = make_plan_sa(run, &err);
-        if (status != BRDFFIT_OK) bf_weight_plan_free(&run->plan, &fit->alloc);
-    }
+    brdffit_status status;
+    if (bf_batch_plans(fit, &run->plan, &run->plan_sa)) return BRDFFIT_OK;
+    status = bf_run_plans(fit, &run->plan, &run->plan_sa, &err);
     if (status != BRDFFIT_OK)
         bf_say(run->result->message, status, "%s",
                status == BRDFFIT_E_OUT_OF_MEMORY ? "out of memory" : err.message);
     return status;
+}
+
+static void free_plans(bf_run *run)
+{
+    if (run->plan.cached != NULL) return; /* the batch's */
+    bf_weight_plan_free(&run->plan, &run->fit->alloc);
+    bf_weight_plan_free(&run->plan_sa, &run->fit->alloc);
 }
 
 /* The fit squares the measured values: keep them where their squares
@@ -209,8 +228,7 @@ brdffit_status bf_run_fit(brdffit_fit *fit, bf_result *out)
     if (status == BRDFFIT_OK) status = check_rows(&run);
     if (status == BRDFFIT_OK) status = prepare_objective(&run);
     if (status == BRDFFIT_OK) status = run_stages(&run);
-    bf_weight_plan_free(&run.plan, &fit->alloc);
-    bf_weight_plan_free(&run.plan_sa, &fit->alloc);
+    free_plans(&run);
     if (status == BRDFFIT_E_OUT_OF_MEMORY) bf_say(out->message, status, "out of memory");
     return status;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/many_scan.h"
 #include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/varpro.h"
@@ -83,8 +84,11 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u)
 }
 
 /* bf_scan_profile_at() with the objective's colour steps started from
- * `warm` when that is better (profile_gn.h); warm may be NULL. */
-static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u,
+ * `warm` when that is better (profile_gn.h); warm may be NULL. `flat` is
+ * the grid point u is (its number in the flat order), or BF_SCAN_OFF_GRID:
+ * a grid point's sums come from a batch's shared scan basis when the fit
+ * has one (many_scan.h), else from a VARPRO pass. */
+static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u, size_t flat,
                                     const double *warm, double *cost)
 {
     brdffit_status status;
@@ -94,9 +98,17 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
         return BRDFFIT_OK;
     }
     bf_scan_set_point(st, sc, u);
-    BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
-    status = bf_varpro_profile(st, cost);
+    if (flat == BF_SCAN_OFF_GRID || !bf_batch_scan_bounds(st, flat))
+        BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
+    if (flat != BF_SCAN_OFF_GRID && bf_batch_scan_sums(st, flat)) {
+        bf_varpro_solve(st, cost);
+        status = BRDFFIT_OK;
+    } else {
+        status = bf_varpro_profile(st, cost);
+    }
+    st->scan_point = flat; /* the colour steps may read the point's basis (many_scan.h) */
     if (status == BRDFFIT_OK) status = bf_profile_gn_from(st, warm, cost); /* the objective's */
+    st->scan_point = BF_SCAN_OFF_GRID;
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it
      * is not recorded in the trace, which holds the costs evaluated */
@@ -108,10 +120,9 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
     return bf_trace_scan(&st->run->result->trace, &st->run->fit->alloc, *cost);
 }
 
-brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
-                                  double *cost)
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u, double *cost)
 {
-    return profile_point(st, sc, u, NULL, cost);
+    return profile_point(st, sc, u, BF_SCAN_OFF_GRID, NULL, cost);
 }
 
 /* Keep the best BF_MAX_CANDIDATES local minima, best first. */
@@ -167,7 +178,7 @@ static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size
     int have = 0;
     for (flat = 0; flat < total && !st->run->cancelled; flat++) {
         flat_to_u(sc->dims, sc->nd, flat, u);
-        BF_RETURN_IF_ERROR(profile_point(st, sc, u, have ? warm : NULL, &f[flat]));
+        BF_RETURN_IF_ERROR(profile_point(st, sc, u, flat, have ? warm : NULL, &f[flat]));
         have = f[flat] < HUGE_VAL;
         if (have) memcpy(warm, st->p, st->n * sizeof *warm);
     }
@@ -178,11 +189,9 @@ static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size
 static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
 {
     const brdffit_allocator *a = &st->run->fit->alloc;
-    size_t total = 1, d, flat;
+    size_t total = bf_scan_points(sc), flat;
     double *f, u[BF_MAX_DIMS];
     brdffit_status status;
-    choose_counts(sc->dims, sc->nd);
-    for (d = 0; d < sc->nd; d++) total *= sc->dims[d].count;
     f = bf_calloc(a, total + st->n, sizeof *f); /* the costs, then the warm start */
     if (f == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     for (flat = 0; flat < total; flat++) f[flat] = HUGE_VAL; /* points a cancel leaves out */
@@ -201,11 +210,30 @@ static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
     return BRDFFIT_OK;
 }
 
-brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
+size_t bf_scan_layout(const bf_stage *st, bf_scan *sc)
 {
     sc->nd = find_dims(st, sc->dims);
     sc->n_best = 0;
-    if (sc->nd > 0) return find_candidates(st, sc);
+    if (sc->nd == 0) return 0;
+    choose_counts(sc->dims, sc->nd);
+    return bf_scan_points(sc);
+}
+
+size_t bf_scan_points(const bf_scan *sc)
+{
+    size_t total = 1, d;
+    for (d = 0; d < sc->nd; d++) total *= sc->dims[d].count;
+    return sc->nd > 0 ? total : 0;
+}
+
+void bf_scan_grid_point(const bf_scan *sc, size_t flat, double *u)
+{
+    flat_to_u(sc->dims, sc->nd, flat, u);
+}
+
+brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
+{
+    if (bf_scan_layout(st, sc) > 0) return find_candidates(st, sc);
     sc->best[0].cost = 0.0;
     sc->n_best = 1;
     return BRDFFIT_OK;

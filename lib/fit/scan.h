@@ -31,6 +31,21 @@ typedef struct bf_scan {
     size_t n_best;
 } bf_scan;
 
+/* A scan coordinate that is no grid point (golden-section refinement). */
+#define BF_SCAN_OFF_GRID ((size_t)-1)
+
+/* The scan's dimensions and grid counts for the stage (what
+ * bf_scan_run() scans), no candidate yet; returns bf_scan_points(). */
+size_t bf_scan_layout(const bf_stage *st, bf_scan *sc);
+
+/* Grid points of the scan: the product of its counts, 0 without a
+ * dimension. */
+size_t bf_scan_points(const bf_scan *sc);
+
+/* The scan coordinates of grid point `flat` (its number in the scan's
+ * flat order, the first dimension fastest) into u. */
+void bf_scan_grid_point(const bf_scan *sc, size_t flat, double *u);
+
 /* Scan the stage's shared free non-linear entries and keep the best local
  * minima in sc->best (with no such entry, one candidate of cost 0 at the
  * start values). A cancel leaves the points not reached out; points the

@@ -112,6 +112,7 @@ brdffit_status bf_stage_init(bf_stage *st, bf_run *run, size_t nc, bf_source sou
     size_t n, n_acc;
     memset(st, 0, sizeof *st);
     st->run = run;
+    st->scan_point = (size_t)-1;
     fill_problem(st, nc, source, source_channel);
     n = st->pb.ly.n_vec;
     st->n = n;
@@ -312,8 +313,7 @@ static brdffit_status collect(bf_stage *st, const double *x, double *params, dou
     st->cost = brdffit_optimizer_final_cost(st->opt);
     if (st->run->fit->sandwich) ok = prepare_sandwich(st, params, &status);
     if (status != BRDFFIT_OK) return status;
-    ok = ok && brdffit_optimizer_std_errors(st->opt, se) == BRDFFIT_OK &&
-         brdffit_optimizer_covariance(st->opt, st->cov) == BRDFFIT_OK;
+    ok = ok && bf_optim_std_errors_covariance(st->opt, se, st->cov) == BRDFFIT_OK;
     if (!ok) {
         memset(se, 0, n * sizeof *se);
         memset(st->cov, 0, n * n * sizeof *st->cov);

@@ -22,6 +22,7 @@ typedef struct bf_run {
     bf_result *result;
     double delta; /* the objective's floor (brdffit_objective) */
     int cancelled;
+    int batch_ready; /* a batch's item products are in fit->batch_work (many_scan.h) */
 } bf_run;
 
 typedef struct bf_stage {
@@ -47,6 +48,8 @@ typedef struct bf_stage {
     size_t label;           /* kind and index (brdffit_fit_stage) */
     size_t traced;          /* the trace's stage number of the last LM run */
     brdffit_optimizer *opt; /* the last LM run's optimizer */
+    size_t scan_point;      /* auto's scan: the grid point whose colours are being solved
+                             * (scan.h), else (size_t)-1 */
     brdffit_status status;  /* last pass failure, for the message */
     brdffit_error err;
 } bf_stage;

@@ -11,13 +11,14 @@
  * st->p: its part of c^T G c - 2 b^T c is a constant, and it moves the free
  * colours' right-hand side to b_f - G_fh c_h. Returns the channel's cost. */
 static double channel_colours(bf_stage *st, size_t m, const double *acc, const double *lo,
-                              const double *hi)
+                              const double *hi, int quick)
 {
     const bf_problem *pb = &st->pb;
     size_t K = pb->ly.n_linear, idx[BF_LSQ_MAX], e[BF_LSQ_MAX], nf = 0, i, j;
     const double *G = acc + 1 + K, *b = acc + 1;
-    double Gf[BF_LSQ_MAX * BF_LSQ_MAX] = {0.0}, bf[BF_LSQ_MAX] = {0.0}, lf[BF_LSQ_MAX] = {0.0};
-    double hf[BF_LSQ_MAX] = {0.0}, c[BF_LSQ_MAX], held = 0.0;
+    /* only the first nf (nf x nf) entries are set and read */
+    double Gf[BF_LSQ_MAX * BF_LSQ_MAX], bf[BF_LSQ_MAX], lf[BF_LSQ_MAX];
+    double hf[BF_LSQ_MAX], c[BF_LSQ_MAX], held = 0.0;
     for (i = 0; i < K; i++) {
         e[i] = st->vindex[pb->ly.linear[i] * pb->nc + m];
         if (!st->fixed[e[i]]) idx[nf++] = i;
@@ -37,12 +38,14 @@ static double channel_colours(bf_stage *st, size_t m, const double *acc, const d
         lf[i] = lo[idx[i]];
         hf[i] = hi[idx[i]];
     }
-    held += bf_bounded_lsq(nf, Gf, bf, lf, hf, c);
+    held +=
+        quick ? bf_bounded_lsq_quick(nf, Gf, bf, lf, hf, c) : bf_bounded_lsq(nf, Gf, bf, lf, hf, c);
     for (i = 0; i < nf; i++) st->p[e[idx[i]]] = c[i];
     return fmax(acc[0] + held, 0.0);
 }
 
-brdffit_status bf_varpro_profile(bf_stage *st, double *cost)
+/* The colours of every channel from the sums in st->acc. */
+static void solve(bf_stage *st, double *cost, int quick)
 {
     const bf_problem *pb = &st->pb;
     size_t K = pb->ly.n_linear, stride = 1 + K + K * K, m, q;
@@ -52,8 +55,19 @@ brdffit_status bf_varpro_profile(bf_stage *st, double *cost)
         lo[q] = st->lower[e];
         hi[q] = st->upper[e];
     }
-    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_VARPRO));
-    for (m = 0; m < pb->nc; m++) total += channel_colours(st, m, st->acc + m * stride, lo, hi);
+    for (m = 0; m < pb->nc; m++)
+        total += channel_colours(st, m, st->acc + m * stride, lo, hi, quick);
     *cost = total;
+}
+
+void bf_varpro_solve(bf_stage *st, double *cost)
+{
+    solve(st, cost, 1);
+}
+
+brdffit_status bf_varpro_profile(bf_stage *st, double *cost)
+{
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_VARPRO));
+    solve(st, cost, 0);
     return BRDFFIT_OK;
 }

@@ -13,4 +13,10 @@
  * ones are solved. Needs bf_layout_projectable(). */
 brdffit_status bf_varpro_profile(bf_stage *st, double *cost);
 
+/* The solve of bf_varpro_profile() alone, from a VARPRO pass's sums
+ * already in st->acc (a batch's shared scan basis gives them without a
+ * pass, many_scan.h), with bf_bounded_lsq_quick(): the same colours up
+ * to rounding, for the scan's many points. */
+void bf_varpro_solve(bf_stage *st, double *cost);
+
 #endif

@@ -105,6 +105,10 @@ typedef struct bf_weight_plan {
     /* regular grids */
     size_t n_ti_act, n_to_act, chunks_per_ti;
     double *w_ti, *w_to, *w_po; /* one allocation, w_ti owns it */
+    /* NULL, or every chunk's weights computed once (bf_weight_plan_fill()),
+     * chunk i's at [i * BF_CHUNK], borrowed: bf_weight_plan_chunk() then
+     * copies them (the same bits) instead of computing them */
+    const double *cached;
 } bf_weight_plan;
 
 brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, double cap,
@@ -114,6 +118,12 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
  * written to `weights` (room for BF_CHUNK doubles). */
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights);
+
+/* Every chunk's weights into out (n_chunks * BF_CHUNK doubles, chunk i's
+ * at [i * BF_CHUNK], the rest of a short chunk 0), for p->cached: a plan
+ * shared by many fits over one geometry (brdffit_fit_many()) computes
+ * them once. */
+void bf_weight_plan_fill(const bf_weight_plan *p, double *out);
 
 /* ---- views (view.c) --------------------------------------------------------- */
 

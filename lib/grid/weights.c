@@ -244,13 +244,43 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a)
     memset(p, 0, sizeof *p);
 }
 
+/* Where chunk `index` lies, as chunk_regular() and chunk_scattered() say. */
+static void chunk_place(const bf_weight_plan *p, size_t index, size_t *first, size_t *count)
+{
+    const brdffit_grid *g = p->grid;
+    size_t start, n_all;
+    if (g->kind == BRDFFIT_GRID_REGULAR) {
+        size_t n_po = g->n_axis[2], row = p->n_to_act * n_po;
+        start = index % p->chunks_per_ti * BF_CHUNK;
+        *first = index / p->chunks_per_ti * g->n_axis[1] * n_po + start;
+        n_all = row;
+    } else {
+        start = *first = index * BF_CHUNK;
+        n_all = p->n_active;
+    }
+    *count = n_all - start < BF_CHUNK ? n_all - start : BF_CHUNK;
+}
+
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights)
 {
-    if (p->grid->kind == BRDFFIT_GRID_REGULAR)
+    if (p->cached != NULL) {
+        chunk_place(p, index, first, count);
+        memcpy(weights, p->cached + index * BF_CHUNK, *count * sizeof *weights);
+    } else if (p->grid->kind == BRDFFIT_GRID_REGULAR)
         chunk_regular(p, index, first, count, weights);
     else
         chunk_scattered(p, index, first, count, weights);
+}
+
+void bf_weight_plan_fill(const bf_weight_plan *p, double *out)
+{
+    size_t i, first, count;
+    for (i = 0; i < p->n_chunks; i++) {
+        double *w = out + i * BF_CHUNK;
+        bf_weight_plan_chunk(p, i, &first, &count, w);
+        memset(w + count, 0, (BF_CHUNK - count) * sizeof *w);
+    }
 }
 
 brdffit_status brdffit_grid_weights(const brdffit_grid *grid, double cap, unsigned flags,

@@ -177,6 +177,33 @@ int bf_optim_std_errors(const brdffit_optimizer *opt, double *se)
     return 1;
 }
 
+int bf_optim_errors(const brdffit_optimizer *opt, double *se, double *cov)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t a, b, p = opt->n_params, n;
+    const double *mid;
+    double f;
+    memset(se, 0, p * sizeof *se);
+    memset(cov, 0, p * p * sizeof *cov);
+    if (bf_blocks_std_errors(opt, se)) return bf_blocks_covariance(opt, cov);
+    if (!scaled_pinv(opt, &n) || (mid = middle(opt, n, &f)) == NULL) {
+        memset(se, 0, p * sizeof *se);
+        return 0;
+    }
+    /* as bf_optim_std_errors() and bf_optim_covariance() give them */
+    for (a = 0; a < n; a++) {
+        double *crow = cov + w->free_idx[a] * p;
+        if (w->held[a]) {
+            se[w->free_idx[a]] = crow[w->free_idx[a]] = HUGE_VAL;
+            continue;
+        }
+        se[w->free_idx[a]] = sqrt(f) * w->scale[a] * sqrt(fmax(mid[a * n + a], 0.0));
+        for (b = 0; b < n; b++)
+            if (!w->held[b]) crow[w->free_idx[b]] = f * w->scale[a] * mid[a * n + b] * w->scale[b];
+    }
+    return 1;
+}
+
 /* Leverage h_i = J_i A^+ J_i^T of row i over C, with (S A S)^+ in w->m. */
 static double leverage(const brdffit_optimizer *opt, const double *row, size_t n)
 {

@@ -192,6 +192,9 @@ int bf_optim_prepare_sandwich(brdffit_optimizer *opt);
 /* analysis.c: standard errors (p) at the returned point into se. Both
  * return 0 when the watched flag (bf_optim_watch()) stopped them. */
 int bf_optim_std_errors(const brdffit_optimizer *opt, double *se);
+/* analysis.c: both of the above from one pseudo-inverse (the same
+ * values, bit for bit); 0 when the watched flag stopped it (se then 0). */
+int bf_optim_errors(const brdffit_optimizer *opt, double *se, double *cov);
 /* analysis.c: the factor s^2 of the classic covariance over n analysed
  * parameters. */
 double bf_optim_classic_factor(const brdffit_optimizer *opt, size_t n);

@@ -5,6 +5,7 @@
 
 #include "core/core.h"
 #include "optim/optim_internal.h"
+#include "optim/sandwich.h"
 
 brdffit_stop_reason brdffit_optimizer_stop_reason(const brdffit_optimizer *opt)
 {
@@ -108,5 +109,14 @@ brdffit_status brdffit_optimizer_std_errors(const brdffit_optimizer *opt, double
     if (se == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
     BF_RETURN_IF_ERROR(covariance_ready(opt));
     if (!bf_optim_std_errors(opt, se)) return BRDFFIT_E_NOT_READY; /* watched flag */
+    return BRDFFIT_OK;
+}
+
+brdffit_status bf_optim_std_errors_covariance(const brdffit_optimizer *opt, double *se, double *cov)
+{
+    BF_RETURN_IF_ERROR(bf_optim_check_handle(opt));
+    if (se == NULL || cov == NULL) return BRDFFIT_E_INVALID_ARGUMENT;
+    BF_RETURN_IF_ERROR(covariance_ready(opt));
+    if (!bf_optim_errors(opt, se, cov)) return BRDFFIT_E_NOT_READY; /* watched flag */
     return BRDFFIT_OK;
 }

@@ -5,7 +5,9 @@
  * leverages h_i = J_i (J^T J)^+ J_i^T, and hands it back; the covariance
  * and standard errors of the handle are then the sandwich's, with the
  * same analysed set, cut-off and undetermined parameters as the
- * optimizer's own (analysis.c). Not installed. */
+ * optimizer's own (analysis.c). Also the standard errors and covariance
+ * of a run at once (the fit takes both after every LM run). Not
+ * installed. */
 #ifndef BRDFFIT_OPTIM_SANDWICH_H
 #define BRDFFIT_OPTIM_SANDWICH_H
 
@@ -25,5 +27,12 @@ int bf_optim_bread(const brdffit_optimizer *opt, double *bread);
  * brdffit_optimizer_covariance() and brdffit_optimizer_std_errors() then
  * give (J^T J)^+ meat (J^T J)^+ until the next run. */
 void bf_optim_set_meat(brdffit_optimizer *opt, const double *meat);
+
+/* brdffit_optimizer_std_errors() and brdffit_optimizer_covariance() at
+ * once, the sandwich's or the classic ones: the same values bit for bit
+ * and the same statuses, from one pseudo-inverse of J^T J instead of
+ * two. */
+brdffit_status bf_optim_std_errors_covariance(const brdffit_optimizer *opt, double *se,
+                                              double *cov);
 
 #endif /* BRDFFIT_OPTIM_SANDWICH_H */

@@ -7,7 +7,9 @@ them all with the model and options of one prototype :class:`~brdffit.Fit`
 prototype's ``threads``, without a grid or fit per item; the results come
 back as numpy arrays. Item ``i``'s result is exactly (bit for bit) that of
 a :class:`~brdffit.Fit` with the same options and ``threads=1`` on a grid
-made from the same directions and item ``i``'s values.
+made from the same directions and item ``i``'s values, except where two
+points of auto's scan tie to rounding (docs/fitting.md, Many fits over one
+geometry).
 
 Example::
 
