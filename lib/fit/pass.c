@@ -218,14 +218,6 @@ static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
     }
 }
 
-static int all_finite(const double *a, size_t n)
-{
-    size_t i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(a[i])) return 0;
-    return 1;
-}
-
 /* Set up one worker per block of chunks; returns the block count. */
 static size_t start_workers(worker *wk, const bf_problem *pb, const bf_route *route,
                             bf_pass_kind kind, const double *params)
@@ -263,7 +255,7 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
         for (i = 0; i < n_part; i++) wk[0].sc.acc[i] += wk[t].sc.acc[i];
     route->finish(pb, kind, params, wk[0].sc.acc, acc);
     mirror(pb, kind, acc);
-    if (!all_finite(acc, n_acc))
+    if (!bf_all_finite(acc, n_acc))
         return bf_fail(err, BRDFFIT_E_NONFINITE,
                        "model '%s' or the data gave a non-finite value in a pass",
                        brdffit_model_name(pb->model));

@@ -305,9 +305,13 @@ static brdffit_status check_outputs(const bf_problem *pb, size_t first, size_t n
                                     const double *vals, const double *jac, brdffit_error *err)
 {
     const char *model = brdffit_model_name(pb->model);
-    size_t nc = pb->nc, per = nc * n, i = first_nonfinite(vals, per);
+    size_t nc = pb->nc, per = nc * n, i;
     char where[48];
-    if (i < per) {
+    /* one branch-free sweep; the first culprit is looked for only when
+     * there is one */
+    if (bf_all_finite(vals, per) && (jac == NULL || bf_all_finite(jac, per * pb->ly.n_params)))
+        return BRDFFIT_OK;
+    if ((i = first_nonfinite(vals, per)) < per) {
         channel_name(pb, i / n, where, sizeof where);
         return bf_fail(err, BRDFFIT_E_NONFINITE,
                        "model \"%s\" gave a non-finite value (%g) at sample %zu%s", model, vals[i],
