@@ -9,9 +9,10 @@
  * bundled sample at cap 90 degrees (75,924 rows), median of repeated runs,
  * squares in the same run.
  *
- *   bench_look [--smoke] [--repeats=N] [--filter=MODEL]
+ *   bench_look [--smoke] [--times] [--repeats=N] [--filter=MODEL]
  *
- * --filter=MODEL runs one model, any built-in one (the times too).
+ * --filter=MODEL runs one model, any built-in one (the times too);
+ * --times runs the times alone, without the look tables.
  *
  * Prints a table (markdown rows) on stdout. --smoke fits one model on the
  * generated data once and checks the figures are finite. */
@@ -215,14 +216,17 @@ int main(int argc, char **argv)
     static const double ward[3][3] = {{0.12}, {0.25, 0.12, 0.05}, {0.3, 0.3, 0.3}};
     const char *filter = NULL;
     size_t repeats = 5;
-    int smoke = 0, i;
+    int smoke = 0, times_only = 0, i;
     brdffit_grid *sample = NULL, *g1, *g2;
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--smoke") == 0) smoke = 1;
+        else if (strcmp(argv[i], "--times") == 0)
+            times_only = 1;
         else if (strncmp(argv[i], "--repeats=", 10) == 0) repeats = (size_t)atoi(argv[i] + 10);
         else if (strncmp(argv[i], "--filter=", 9) == 0) filter = argv[i] + 9;
         else {
-            fprintf(stderr, "usage: %s [--smoke] [--repeats=N] [--filter=MODEL]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--smoke] [--times] [--repeats=N] [--filter=MODEL]\n",
+                    argv[0]);
             return 2;
         }
     }
@@ -238,9 +242,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "cannot load the bundled sample\n");
             return 1;
         }
-        table("bundled sample (data/sample-carpaint.csv)", sample, filter, 0);
-        table("ggx-2 data, 5 % noise", g1, filter, 0);
-        table("ward-duer data, 5 % noise", g2, filter, 0);
+        if (!times_only) {
+            table("bundled sample (data/sample-carpaint.csv)", sample, filter, 0);
+            table("ggx-2 data, 5 % noise", g1, filter, 0);
+            table("ward-duer data, 5 % noise", g2, filter, 0);
+        }
         times(sample, repeats, filter);
         brdffit_grid_destroy(sample);
     }

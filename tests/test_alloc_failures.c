@@ -871,6 +871,7 @@ typedef struct fit_ctx {
     const inputs *in;
     int create_only;
     brdffit_pipeline pipeline;
+    brdffit_objective objective;
     double threads, clearcoat;
     brdffit_fit *fit;
     fit_result ref;
@@ -882,6 +883,7 @@ static void fit_configure(const fit_ctx *k, brdffit_fit *fit)
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, k->pipeline), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, k->threads), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_CLEARCOAT, k->clearcoat), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, k->objective), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_MAX_ITERATIONS, 40), BRDFFIT_OK);
 }
 
@@ -964,15 +966,26 @@ static void test_fit(void **state)
     static const struct {
         const char *name;
         brdffit_pipeline pipeline;
+        brdffit_objective objective;
         double threads, clearcoat;
     } runs[] = {
-        {"brdffit_fit_run (auto, 1 thread)", BRDFFIT_PIPELINE_AUTO, 1, 0},
-        {"brdffit_fit_run (auto, 2 threads)", BRDFFIT_PIPELINE_AUTO, 2, 0},
-        {"brdffit_fit_run (joint, 1 thread)", BRDFFIT_PIPELINE_JOINT, 1, 0},
-        {"brdffit_fit_run (joint, 2 threads)", BRDFFIT_PIPELINE_JOINT, 2, 0},
-        {"brdffit_fit_run (two-stage, 1 thread)", BRDFFIT_PIPELINE_TWO_STAGE, 1, 0},
-        {"brdffit_fit_run (two-stage, 2 threads)", BRDFFIT_PIPELINE_TWO_STAGE, 2, 0},
-        {"brdffit_fit_run (auto, clear coat, 2 threads)", BRDFFIT_PIPELINE_AUTO, 2, 0.04},
+        {"brdffit_fit_run (auto, 1 thread)", BRDFFIT_PIPELINE_AUTO, BRDFFIT_OBJECTIVE_SQUARES, 1,
+         0},
+        {"brdffit_fit_run (auto, 2 threads)", BRDFFIT_PIPELINE_AUTO, BRDFFIT_OBJECTIVE_SQUARES, 2,
+         0},
+        {"brdffit_fit_run (joint, 1 thread)", BRDFFIT_PIPELINE_JOINT, BRDFFIT_OBJECTIVE_SQUARES, 1,
+         0},
+        {"brdffit_fit_run (joint, 2 threads)", BRDFFIT_PIPELINE_JOINT, BRDFFIT_OBJECTIVE_SQUARES, 2,
+         0},
+        {"brdffit_fit_run (two-stage, 1 thread)", BRDFFIT_PIPELINE_TWO_STAGE,
+         BRDFFIT_OBJECTIVE_SQUARES, 1, 0},
+        {"brdffit_fit_run (two-stage, 2 threads)", BRDFFIT_PIPELINE_TWO_STAGE,
+         BRDFFIT_OBJECTIVE_SQUARES, 2, 0},
+        {"brdffit_fit_run (auto, clear coat, 2 threads)", BRDFFIT_PIPELINE_AUTO,
+         BRDFFIT_OBJECTIVE_SQUARES, 2, 0.04},
+        /* the profile's colour passes and their shape cache */
+        {"brdffit_fit_run (auto, cube root, 2 threads)", BRDFFIT_PIPELINE_AUTO,
+         BRDFFIT_OBJECTIVE_CUBE_ROOT, 2, 0},
     };
     fit_ctx k;
     size_t r;
@@ -984,6 +997,7 @@ static void test_fit(void **state)
     k.create_only = 0;
     for (r = 0; r < sizeof runs / sizeof runs[0]; r++) {
         k.pipeline = runs[r].pipeline;
+        k.objective = runs[r].objective;
         k.threads = runs[r].threads;
         k.clearcoat = runs[r].clearcoat;
         run_fit(runs[r].name, &k);

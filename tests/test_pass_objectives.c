@@ -29,22 +29,6 @@ typedef struct setup {
     double *work, *terms;
 } setup;
 
-/* Each declared parameter at its start value, a per-channel one 10 % apart
- * per channel, inside its bounds. */
-static void start_params(setup *s)
-{
-    const size_t nc = s->pb.nc, np = brdffit_model_param_count(s->model);
-    size_t k, c;
-    for (k = 0; k < np; k++) {
-        const brdffit_param_info *p = brdffit_model_param(s->model, k);
-        for (c = 0; c < nc; c++) {
-            double v = p->start * (1.0 + 0.1 * (double)c);
-            if (v == 0.0) v = 0.05 + 0.02 * (double)c;
-            s->params[s->vindex[k * nc + c]] = fmin(fmax(v, p->lower), p->upper);
-        }
-    }
-}
-
 static void setup_init(setup *s, const char *model, size_t nc, bf_source source, double coat,
                        brdffit_objective objective)
 {
@@ -64,7 +48,7 @@ static void setup_init(setup *s, const char *model, size_t nc, bf_source source,
     pb->vindex = s->vindex;
     bf_pass_prepare(pb);
     assert_true(pb->route == &bf_route_basis);
-    start_params(s);
+    fx_pass_start(pb, s->params);
     /* room for either route */
     size = bf_pass_work_size(pb);
     pb->route = &bf_route_generic;

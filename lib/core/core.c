@@ -1,5 +1,6 @@
 #include "core.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,6 +63,23 @@ int bf_mul_size(size_t a, size_t b, size_t *out)
     if (a != 0 && b > SIZE_MAX / a) return 0;
     *out = a * b;
     return 1;
+}
+
+BF_VECTOR_CLONES
+int bf_all_finite(const double *x, size_t n)
+{
+    /* the exponent field plus one carries into the top bit exactly when it
+     * is all ones (an infinity or a NaN): adds, ands and ors alone, which
+     * vectorise with the baseline instruction set */
+    const uint64_t exponent = UINT64_C(0x7ff0000000000000), one = UINT64_C(1) << 52;
+    uint64_t bad = 0;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        uint64_t u;
+        memcpy(&u, &x[i], sizeof u);
+        bad |= (u & exponent) + one;
+    }
+    return (bad >> 63) == 0;
 }
 
 int bf_add_size(size_t a, size_t b, size_t *out)

@@ -37,6 +37,9 @@ char *bf_strdup(const brdffit_allocator *a, const char *s);
 int bf_mul_size(size_t a, size_t b, size_t *out);
 /* *out = a + b; returns 0 on overflow. */
 int bf_add_size(size_t a, size_t b, size_t *out);
+/* Whether x[0 .. n) are all finite: one branch-free sweep over the
+ * exponent bits, which vectorises (a check of every output of a model). */
+int bf_all_finite(const double *x, size_t n);
 
 /* Record an error in err (may be NULL) and return status. */
 brdffit_status bf_fail(brdffit_error *err, brdffit_status status, const char *fmt, ...)

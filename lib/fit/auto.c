@@ -10,7 +10,6 @@
 #include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/scan.h"
-#include "fit/varpro.h"
 
 /* The best polish so far: its cost and its stage in the trace. */
 typedef struct best_polish {
@@ -75,8 +74,7 @@ static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_pol
     double cost, *start = work + 2 * st->n;
     bf_scan_set_point(st, sc, sc->best[i].u);
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1)); /* every bound at the candidate's shape */
-    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
-    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_point(st, NULL, 1, &cost));
     memcpy(start, st->p, st->n * sizeof *start);
     st->kind = BRDFFIT_STAGE_POLISH;
     st->label = i;
@@ -123,8 +121,7 @@ static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
     else
         bf_scan_set_point(st, sc, sc->best[0].u);
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0));
-    BF_RETURN_IF_ERROR(bf_varpro_profile(st, &cost));
-    BF_RETURN_IF_ERROR(bf_profile_gn(st, &cost));
+    BF_RETURN_IF_ERROR(bf_profile_point(st, NULL, 1, &cost));
     memcpy(r->params, st->p, st->n * sizeof *r->params);
     memset(r->std_errors, 0, st->n * sizeof *r->std_errors);
     if (r->cov != NULL) memset(r->cov, 0, st->n * st->n * sizeof *r->cov);

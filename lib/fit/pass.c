@@ -41,21 +41,25 @@ void bf_pass_prepare(bf_problem *pb)
 
 /* The route that accumulates passes of this kind: the problem's when it
  * takes the kind, else the generic route. SANDWICH needs each row's
- * Jacobian and always takes the generic route. */
+ * Jacobian and always takes the generic route; SHAPE and the colour passes
+ * take the colour route. */
 static const bf_route *route_for(const bf_problem *pb, bf_pass_kind kind)
 {
     if (kind == BF_PASS_SANDWICH) return &bf_route_generic; /* rows, one at a time */
+    if (bf_route_colour.kinds & (1u << kind)) return &bf_route_colour;
     return (pb->route->kinds & (1u << kind)) ? pb->route : &bf_route_generic;
 }
 
-/* Doubles of the routes' own scratch: the problem's route's, and the
- * generic route's when SANDWICH passes will run (METRICS, the other kind
- * the basis route leaves to it, needs none of it). */
+/* Doubles of the routes' own scratch: the problem's route's, the generic
+ * route's when SANDWICH passes will run (METRICS, the other kind the basis
+ * route leaves to it, needs none of it), the colour route's when colour
+ * passes will. */
 static size_t own_size(const bf_problem *pb)
 {
-    size_t own = pb->route->scratch_size(pb), generic = 0;
-    if (pb->sandwich) generic = bf_route_generic.scratch_size(pb);
-    return own > generic ? own : generic;
+    size_t own = pb->route->scratch_size(pb), other;
+    if (pb->sandwich && (other = bf_route_generic.scratch_size(pb)) > own) own = other;
+    if (pb->colour && (other = bf_route_colour.scratch_size(pb)) > own) own = other;
+    return own;
 }
 
 size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind)
@@ -67,6 +71,10 @@ size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind)
     case BF_PASS_VARPRO: return pb->nc * (1 + k + k * k);
     case BF_PASS_METRICS: return pb->nc * 4;
     case BF_PASS_SANDWICH: return nv * nv;
+    case BF_PASS_SHAPE: return 0;
+    case BF_PASS_COLOUR_COST: return 1;
+    case BF_PASS_COLOUR_NORMAL:
+    case BF_PASS_COLOUR_VARPRO: return pb->nc * (1 + k + k * k);
     }
     return 0;
 }
@@ -171,6 +179,16 @@ void bf_pass_terms(const bf_problem *pb, double *terms)
     }
 }
 
+/* Whether the worker's route reads the chunk's measured values from the
+ * scratch (the basis and colour routes may read what they need in place,
+ * or need none). */
+static int reads_measured(const worker *wk)
+{
+    if (wk->route == &bf_route_basis) return !bf_basis_in_place(wk->pb, wk->kind);
+    if (wk->route == &bf_route_colour) return !bf_colour_in_place(wk->pb, wk->kind);
+    return 1;
+}
+
 static brdffit_status run_chunk(worker *wk, size_t ci)
 {
     const bf_problem *pb = wk->pb;
@@ -181,8 +199,7 @@ static brdffit_status run_chunk(worker *wk, size_t ci)
     if (wk->kind == BF_PASS_METRICS) bf_weight_plan_chunk(pb->plan_sa, ci, &first, &n, sc->wsa);
     bf_grid_batch(pb->grid, first, n, &batch);
     sc->first = first;
-    if (wk->route != &bf_route_basis || !bf_basis_in_place(pb, wk->kind))
-        load_measured(pb, &batch, first, sc);
+    if (reads_measured(wk)) load_measured(pb, &batch, first, sc);
     return wk->route->chunk(pb, wk->kind, wk->params, sc, &batch, &wk->err);
 }
 
@@ -208,7 +225,8 @@ static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
     } else if (kind == BF_PASS_SANDWICH) {
         for (i = 0; i < nv; i++)
             for (j = 0; j < i; j++) acc[i * nv + j] = acc[j * nv + i];
-    } else if (kind == BF_PASS_VARPRO) {
+    } else if (kind == BF_PASS_VARPRO || kind == BF_PASS_COLOUR_NORMAL ||
+               kind == BF_PASS_COLOUR_VARPRO) {
         size_t K = pb->ly.n_linear, stride = 1 + K + K * K;
         for (m = 0; m < pb->nc; m++) {
             double *G = acc + m * stride + 1 + K;
@@ -216,14 +234,6 @@ static void mirror(const bf_problem *pb, bf_pass_kind kind, double *acc)
                 for (j = 0; j < i; j++) G[i * K + j] = G[j * K + i];
         }
     }
-}
-
-static int all_finite(const double *a, size_t n)
-{
-    size_t i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(a[i])) return 0;
-    return 1;
 }
 
 /* Set up one worker per block of chunks; returns the block count. */
@@ -263,7 +273,7 @@ brdffit_status bf_pass(const bf_problem *pb, bf_pass_kind kind, const double *pa
         for (i = 0; i < n_part; i++) wk[0].sc.acc[i] += wk[t].sc.acc[i];
     route->finish(pb, kind, params, wk[0].sc.acc, acc);
     mirror(pb, kind, acc);
-    if (!all_finite(acc, n_acc))
+    if (!bf_all_finite(acc, n_acc))
         return bf_fail(err, BRDFFIT_E_NONFINITE,
                        "model '%s' or the data gave a non-finite value in a pass",
                        brdffit_model_name(pb->model));

@@ -19,6 +19,18 @@
  *           covariance's pseudo-inverse of J^T J, model-parameter space),
  *           1 - h_i floored at 1e-8 as the optimizer's own sandwich does:
  *           the meat of the HC3 sandwich covariance
+ * and the colour passes of auto's profile at one shape point
+ * (pass_colour.c), which need the shape cache pb->shape:
+ *   SHAPE   no sums: fills pb->shape with what the model's values take
+ *           from params' shape alone (bf_pass_shape_size())
+ *   COLOUR_COST    [cost] as COST, from the cache at params' colours
+ *   COLOUR_NORMAL  per channel m: [cost of m, J^T r (K), J^T J (K * K)]
+ *           of channel m's K colours (the layout's linear parameters in
+ *           their order), the colour block of NORMAL, from the cache
+ *   COLOUR_VARPRO  VARPRO's sums of the objective linearised at the
+ *           measured values, rows w T'(R) (M - R) with T the objective's
+ *           transform (VARPRO itself under the squares objective), from
+ *           the cache
  * The chunks are split into `threads` contiguous blocks, run by the pool's
  * helpers and the calling thread, and the blocks' partial sums are added in
  * block order, so a pass is deterministic for a given thread count. The
@@ -30,7 +42,8 @@
  * values, for COST, NORMAL and VARPRO under every objective; the generic
  * route for any model and objective, and for METRICS. bf_pass_prepare()
  * chooses it once per problem; SANDWICH needs each row's Jacobian and
- * always takes the generic route. */
+ * always takes the generic route, SHAPE and the colour passes the colour
+ * route. */
 #ifndef BRDFFIT_FIT_PASS_H
 #define BRDFFIT_FIT_PASS_H
 
@@ -51,7 +64,11 @@ typedef enum bf_pass_kind {
     BF_PASS_NORMAL,
     BF_PASS_VARPRO,
     BF_PASS_METRICS,
-    BF_PASS_SANDWICH
+    BF_PASS_SANDWICH,
+    BF_PASS_SHAPE,
+    BF_PASS_COLOUR_COST,
+    BF_PASS_COLOUR_NORMAL,
+    BF_PASS_COLOUR_VARPRO
 } bf_pass_kind;
 
 #define BF_MAX_THREADS 64
@@ -89,6 +106,11 @@ typedef struct bf_problem {
                                     * from the measured values and the geometry alone,
                                     * computed once rather than in every pass; NULL under
                                     * the squares objective, which needs none */
+    int colour;                    /* colour passes will be run (their route's scratch is
+                                    * sized in) */
+    double *shape;                 /* bf_pass_shape_size() doubles, owned by the caller:
+                                    * the shape cache SHAPE fills and the colour passes
+                                    * read; NULL when no colour pass runs */
     /* set by bf_pass_prepare() */
     const bf_kernel *kernel;       /* the model's basis form, NULL when it has none */
     const struct bf_route *route;  /* how chunks are accumulated */
@@ -116,6 +138,12 @@ size_t bf_pass_terms_size(const bf_problem *pb);
  * `work` is set (it loads the measured values in the first thread's
  * scratch), then set pb->terms = terms. */
 void bf_pass_terms(const bf_problem *pb, double *terms);
+
+/* Doubles of the shape cache (pb->shape): (K + 1) per sample for a model
+ * affine in its colour, K for a model in basis form whose K linear
+ * parameters are its basis's colours; 0 for any other model, which has no
+ * colour passes. Call after bf_pass_prepare(). */
+size_t bf_pass_shape_size(const bf_problem *pb);
 
 /* Size of the accumulator of a pass, in doubles. */
 size_t bf_pass_acc_size(const bf_problem *pb, bf_pass_kind kind);

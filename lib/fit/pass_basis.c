@@ -87,6 +87,10 @@ static size_t basis_acc_size(const bf_problem *pb, bf_pass_kind kind)
     case BF_PASS_VARPRO: return eb.L * eb.L + pb->nc * (eb.L + 1);
     case BF_PASS_METRICS:
     case BF_PASS_SANDWICH: break; /* the generic route's */
+    case BF_PASS_SHAPE:
+    case BF_PASS_COLOUR_COST:
+    case BF_PASS_COLOUR_NORMAL:
+    case BF_PASS_COLOUR_VARPRO: break; /* the colour route's */
     }
     return 0;
 }

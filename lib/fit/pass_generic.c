@@ -116,6 +116,40 @@ void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const doubl
     for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
 }
 
+/* bf_objective_slopes() of pass_route.h: the row factors of
+ * bf_objective_rows() with val = meas; cube-root's cbrt |R| as
+ * |cbrt(c R)| / cbrt(c) from the terms. */
+BF_VECTOR_CLONES
+void bf_objective_slopes(const bf_problem *pb, size_t m, size_t first, const double *restrict meas,
+                         const double *restrict lz, size_t n, double *restrict rw)
+{
+    const size_t ns = pb->grid->n_samples;
+    const double *restrict tm = pb->terms + m * ns + first;
+    size_t s;
+    switch (pb->objective) {
+    case BRDFFIT_OBJECTIVE_LOG:
+        for (s = 0; s < n; s++) {
+            double c = lz[s] > 0.0 ? lz[s] : 0.0, cv = rw[s] != 0.0 ? c * meas[s] : 0.0;
+            rw[s] *= c / (1.0 + cv);
+        }
+        return;
+    case BRDFFIT_OBJECTIVE_CUBE_ROOT: {
+        const double root_delta = bf_cbrt(pb->delta);
+        const double *restrict tc = pb->terms + pb->nc * ns + first;
+        for (s = 0; s < n; s++) {
+            double cc = tc[s], tv = cc > 0.0 ? fabs(tm[s]) / cc : 0.0;
+            double t = tv > root_delta ? tv : root_delta;
+            rw[s] *= cc / (3.0 * t * t);
+        }
+        return;
+    }
+    case BRDFFIT_OBJECTIVE_RELATIVE:
+        for (s = 0; s < n; s++) rw[s] *= tm[s];
+        return;
+    case BRDFFIT_OBJECTIVE_SQUARES: break;
+    }
+}
+
 /* The rows of channel m: weighted residuals into sc->d and row factors
  * into sc->ww, squares exactly as ever, other objectives transformed. */
 static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz, size_t n)
@@ -305,9 +339,13 @@ static brdffit_status check_outputs(const bf_problem *pb, size_t first, size_t n
                                     const double *vals, const double *jac, brdffit_error *err)
 {
     const char *model = brdffit_model_name(pb->model);
-    size_t nc = pb->nc, per = nc * n, i = first_nonfinite(vals, per);
+    size_t nc = pb->nc, per = nc * n, i;
     char where[48];
-    if (i < per) {
+    /* one branch-free sweep; the first culprit is looked for only when
+     * there is one */
+    if (bf_all_finite(vals, per) && (jac == NULL || bf_all_finite(jac, per * pb->ly.n_params)))
+        return BRDFFIT_OK;
+    if ((i = first_nonfinite(vals, per)) < per) {
         channel_name(pb, i / n, where, sizeof where);
         return bf_fail(err, BRDFFIT_E_NONFINITE,
                        "model \"%s\" gave a non-finite value (%g) at sample %zu%s", model, vals[i],
@@ -376,6 +414,10 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
     case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, params, n); break;
     case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
     case BF_PASS_SANDWICH: accumulate_sandwich(pb, sc, jac, batch->lz, n); break;
+    case BF_PASS_SHAPE:
+    case BF_PASS_COLOUR_COST:
+    case BF_PASS_COLOUR_NORMAL:
+    case BF_PASS_COLOUR_VARPRO: break; /* the colour route's (pass.c never sends them) */
     }
     return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, batch, first, err);
 }

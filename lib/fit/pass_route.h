@@ -40,10 +40,17 @@ typedef struct bf_route {
 
 extern const bf_route bf_route_generic; /* pass_generic.c */
 extern const bf_route bf_route_basis;   /* pass_basis.c */
+extern const bf_route bf_route_colour;  /* pass_colour.c: SHAPE and the colour passes */
 
 /* Whether the driver leaves the chunk's measured values unloaded because
  * the basis route reads them in place (pass_fused.h). */
 int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind);
+
+/* Whether the driver leaves the chunk's measured values and presence
+ * unloaded because the colour route reads none (pass_colour.c): SHAPE,
+ * and the colour passes under an objective that takes the measured values
+ * from the terms alone on a grid without missing values. */
+int bf_colour_in_place(const bf_problem *pb, bf_pass_kind kind);
 
 /* The objective's terms of n samples that depend on the measured values
  * and the geometry alone (pb->terms, pass.h), c = max(lz, 0): log
@@ -61,6 +68,14 @@ void bf_objective_terms(const bf_problem *pb, const double *meas, const double *
  * route both transform their rows with it (pass_generic.c). */
 void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const double *meas,
                        const double *val, const double *lz, size_t n, double *rd, double *rw);
+
+/* The row factors of bf_objective_rows() at val = meas, from the terms
+ * alone (no transcendental function): rw *= dT/dM at M = meas, rw holding
+ * each row's weight on entry, for the colour route's linearised VARPRO
+ * (pass_colour.c). Under the relative objective the rows are linear in M
+ * and the factors exact; under the squares rw stays. */
+void bf_objective_slopes(const bf_problem *pb, size_t m, size_t first, const double *meas,
+                         const double *lz, size_t n, double *rw);
 
 /* The passes' dot product is bf_dot() of core/linalg.h. */
 

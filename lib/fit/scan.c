@@ -84,10 +84,10 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u)
 }
 
 /* bf_scan_profile_at() with the objective's colour steps started from
- * `warm` when that is better (profile_gn.h); warm may be NULL. `flat` is
- * the grid point u is (its number in the flat order), or BF_SCAN_OFF_GRID:
- * a grid point's sums come from a batch's shared scan basis when the fit
- * has one (many_scan.h), else from a VARPRO pass. */
+ * `warm` when that is better (bf_profile_point()); warm may be NULL.
+ * `flat` is the grid point u is (its number in the flat order), or
+ * BF_SCAN_OFF_GRID: under the squares objective a grid point's sums come
+ * from a batch's shared scan basis when the fit has one (many_scan.h). */
 static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const double *u, size_t flat,
                                     const double *warm, double *cost)
 {
@@ -100,14 +100,14 @@ static brdffit_status profile_point(bf_stage *st, const bf_scan *sc, const doubl
     bf_scan_set_point(st, sc, u);
     if (flat == BF_SCAN_OFF_GRID || !bf_batch_scan_bounds(st, flat))
         BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 0)); /* the cheap colour bounds */
-    if (flat != BF_SCAN_OFF_GRID && bf_batch_scan_sums(st, flat)) {
-        bf_varpro_solve(st, cost);
+    st->scan_point = flat; /* the colour steps may read the point's basis (many_scan.h) */
+    if (flat != BF_SCAN_OFF_GRID && st->pb.objective == BRDFFIT_OBJECTIVE_SQUARES &&
+        !st->pb.colour && bf_batch_scan_sums(st, flat)) {
+        bf_varpro_solve(st, cost); /* the squares' profile, from the batch's sums */
         status = BRDFFIT_OK;
     } else {
-        status = bf_varpro_profile(st, cost);
+        status = bf_profile_point(st, warm, 0, cost);
     }
-    st->scan_point = flat; /* the colour steps may read the point's basis (many_scan.h) */
-    if (status == BRDFFIT_OK) status = bf_profile_gn_from(st, warm, cost); /* the objective's */
     st->scan_point = BF_SCAN_OFF_GRID;
     /* a point the model cannot evaluate (a domain error, NaN) is left out,
      * as the optimizer rejects such a trial step; st->status keeps why; it

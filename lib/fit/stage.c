@@ -60,6 +60,11 @@ static void fill_problem(bf_stage *st, size_t nc, bf_source source, size_t sourc
     st->pb.pool = &st->run->pool;
     st->pb.sandwich = fit->sandwich;
     bf_pass_prepare(&st->pb);
+    /* auto's profile takes colour passes under every objective but the
+     * squares, and under the squares for a model affine in its colour
+     * (profile_gn.h) */
+    st->pb.colour = bf_pass_shape_size(&st->pb) > 0 &&
+                    (fit->objective != BRDFFIT_OBJECTIVE_SQUARES || st->pb.ly.offset);
 }
 
 /* The fit's start value of declared k in the fit's channel c. */
@@ -148,6 +153,7 @@ void bf_stage_free(bf_stage *st)
     bf_free(a, st->lower);
     bf_free(a, st->pb.work);
     bf_free(a, st->terms);
+    bf_free(a, st->shape);
     bf_free(a, st->cov);
     memset(st, 0, sizeof *st);
 }

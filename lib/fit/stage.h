@@ -41,6 +41,8 @@ typedef struct bf_stage {
     double *shown;          /* n: natural point shown to the user's callback */
     double *acc;            /* accumulator of any pass */
     double *terms;          /* the objective's terms (pb.terms), NULL under squares */
+    double *shape;          /* the shape cache (pb.shape) of auto's colour passes, made
+                             * by its first profile (profile_gn.h), else NULL */
     double *cov;            /* n * n: covariance of the last LM run's result (natural
                              * units, as its standard errors); made by bf_stage_lm */
     double cost;            /* final cost of the last LM run */

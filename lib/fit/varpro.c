@@ -65,9 +65,9 @@ void bf_varpro_solve(bf_stage *st, double *cost)
     solve(st, cost, 1);
 }
 
-brdffit_status bf_varpro_profile(bf_stage *st, double *cost)
+brdffit_status bf_varpro_profile(bf_stage *st, bf_pass_kind kind, double *cost)
 {
-    BF_RETURN_IF_ERROR(bf_stage_pass(st, BF_PASS_VARPRO));
+    BF_RETURN_IF_ERROR(bf_stage_pass(st, kind));
     solve(st, cost, 0);
     return BRDFFIT_OK;
 }

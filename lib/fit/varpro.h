@@ -10,8 +10,10 @@
  * linear entries ignored): the best bounded colours of every channel are
  * written into st->p and the cost into *cost. Held linear entries
  * (st->fixed) are constants at their values in st->p and only the free
- * ones are solved. Needs bf_layout_projectable(). */
-brdffit_status bf_varpro_profile(bf_stage *st, double *cost);
+ * ones are solved. `kind` is the pass of the sums: BF_PASS_VARPRO, or
+ * BF_PASS_COLOUR_VARPRO from the shape cache filled at st->p's shape
+ * (fit/pass.h). Needs bf_layout_projectable(). */
+brdffit_status bf_varpro_profile(bf_stage *st, bf_pass_kind kind, double *cost);
 
 /* The solve of bf_varpro_profile() alone, from a VARPRO pass's sums
  * already in st->acc (a batch's shared scan basis gives them without a

@@ -241,19 +241,6 @@ brdffit_status bf_model_eval(const brdffit_model *m, const brdffit_batch *batch,
 
 /* Whether every x[i] is finite (its exponent bits are not all set); an
  * integer OR reduction, which compilers vectorise. */
-static int all_finite(const double *x, size_t n)
-{
-    const uint64_t exponent = UINT64_C(0x7ff0000000000000);
-    uint64_t bad = 0;
-    size_t i;
-    for (i = 0; i < n; i++) {
-        uint64_t u;
-        memcpy(&u, &x[i], sizeof u);
-        bad |= (uint64_t)((u & exponent) == exponent);
-    }
-    return bad == 0;
-}
-
 static size_t first_nonfinite(const double *x, size_t n)
 {
     size_t i;
@@ -281,13 +268,13 @@ brdffit_status bf_model_check_outputs(const brdffit_model *m, size_t n, size_t n
 {
     const size_t per_param = n * n_channels;
     size_t i;
-    if (!all_finite(values, per_param)) {
+    if (!bf_all_finite(values, per_param)) {
         i = first_nonfinite(values, per_param);
         return bf_fail(err, BRDFFIT_E_NONFINITE,
                        "model \"%s\" produced a non-finite value (%g) at sample %zu, channel %zu",
                        m->name, values[i], offset + i % n, i / n);
     }
-    if (jacobian == NULL || all_finite(jacobian, per_param * m->n_params)) return BRDFFIT_OK;
+    if (jacobian == NULL || bf_all_finite(jacobian, per_param * m->n_params)) return BRDFFIT_OK;
     i = first_nonfinite(jacobian, per_param * m->n_params);
     return bf_fail(err, BRDFFIT_E_NONFINITE,
                    "model \"%s\" produced a non-finite derivative (%g) with respect to \"%s\" "

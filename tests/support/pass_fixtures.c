@@ -1,5 +1,6 @@
 #include "pass_fixtures.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,4 +31,18 @@ void fx_pass_problem(bf_problem *pb, const brdffit_grid *grid, const brdffit_mod
     pb->clearcoat = coat;
     pb->threads = 1;
     bf_layout_init(&pb->ly, model, nc);
+}
+
+void fx_pass_start(const bf_problem *pb, double *params)
+{
+    const size_t nc = pb->nc, np = brdffit_model_param_count(pb->model);
+    size_t k, c;
+    for (k = 0; k < np; k++) {
+        const brdffit_param_info *p = brdffit_model_param(pb->model, k);
+        for (c = 0; c < nc; c++) {
+            double v = p->start * (1.0 + 0.1 * (double)c);
+            if (v == 0.0) v = 0.05 + 0.02 * (double)c;
+            params[pb->vindex[k * nc + c]] = fmin(fmax(v, p->lower), p->upper);
+        }
+    }
 }

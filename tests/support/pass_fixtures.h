@@ -16,4 +16,9 @@ brdffit_grid *fx_pass_grid(size_t nc);
 void fx_pass_problem(bf_problem *pb, const brdffit_grid *grid, const brdffit_model *model,
                      const bf_weight_plan *plan, size_t nc, bf_source source, double coat);
 
+/* Each declared parameter of the problem's model at its start value, a
+ * per-channel one 10 % apart per channel (a start of 0 becomes 0.05 plus
+ * 0.02 per channel), inside its bounds, into params at pb->vindex. */
+void fx_pass_start(const bf_problem *pb, double *params);
+
 #endif /* BRDFFIT_PASS_FIXTURES_H */
