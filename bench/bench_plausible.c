@@ -102,7 +102,8 @@ static void one_model(const brdffit_grid *grid, const char *name, int objective,
 int main(int argc, char **argv)
 {
     static const char *const models[] = {
-        "ashikhmin-shirley", "phong", "blinn-phong", "cook-torrance", "ggx", "ward", "ggx-2"};
+        "ashikhmin-shirley", "phong", "blinn-phong", "cook-torrance", "ggx", "ward", "ggx-2",
+        "lafortune"};
     const char *filter = NULL;
     size_t repeats = 5, i;
     brdffit_grid *sample = NULL;

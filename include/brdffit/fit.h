@@ -98,18 +98,18 @@ typedef enum brdffit_fit_setting {
  * and its polish, the diffuse colour "cd" at most 1 (the albedo of a
  * Lambertian cd) and the colour of each specular lobe of a built-in model
  * (phong, blinn-phong, ashikhmin-shirley and its -fresnel and -2 forms,
- * cook-torrance, ggx and their -2 forms, ward, ward-duer) at most 1 / A, A
- * an upper bound on the largest directional albedo of the lobe with
- * colour 1 over incidence angles 0, 30, 50, 65, 75 and 85 degrees at the
- * current shape: read from a table of the lobe's albedo over its
- * sharpness computed offline with brdffit_model_albedo() and
+ * cook-torrance, ggx and their -2 forms, ward, ward-duer, lafortune) at
+ * most 1 / A, A an upper bound on the largest directional albedo of the
+ * lobe with colour 1 over incidence angles 0, 30, 50, 65, 75 and 85
+ * degrees at the current shape: read from a table of the lobe's albedo
+ * over its sharpness (Lafortune's: of its form as a cosine lobe about its
+ * axis, over n and the axis's polar cosine) computed offline and
  * interpolated, with a margin for the interpolation and the quadrature,
  * so it is never below the integral and at most 3 % above it (1 % or
  * less on the tested shapes; tests/test_model_albedo.c). A polished
  * result is bounded again at its own shape and polished once more if it
  * broke the bound (up to 4 times, then clamped). The table look-ups cost
- * nothing measurable. Lafortune's lobe (its albedo depends on n and cz
- * alike) and user models get the cd bound alone.
+ * nothing measurable. User models get the cd bound alone.
  *
  * 2: the same, but at the shape of every polished candidate and result
  * each colour (linear parameter) is bounded by the integral itself:
