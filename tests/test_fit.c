@@ -630,7 +630,7 @@ static void test_many_scan_dimensions(void **state)
     fx_vector(model, 3, v, truth_p);
     grid = fx_grid_from_model(model, truth_p, 3, NULL, 0.0, 1);
     assert_non_null(grid);
-    fit = make_fit(grid, model);
+    fit = make_squares_fit(grid, model); /* the subject: the scan's dimensions */
     run_ok(fit);
     assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &cost),
                      BRDFFIT_OK);
