@@ -99,9 +99,11 @@ static brdffit_stop_reason check_before(const lm_run *run)
 }
 
 /* Step test 0: every parameter's step is small against its own
- * magnitude, so a large parameter does not hide the others' progress.
- * Step test 1 (MINPACK's xtol): ||D^1/2 step|| <= xtol ||D^1/2 x||, the
- * step and the point measured in the scaling D. */
+ * magnitude, so a large parameter does not hide the others' progress;
+ * near 0, against xtol times its scale (the largest magnitude it had in
+ * the run), so that runs converging to 0 end and the test does not depend
+ * on the parameters' units. Step test 1 (MINPACK's xtol): ||D^1/2 step||
+ * <= xtol ||D^1/2 x||, the step and the point measured in the scaling D. */
 static int step_small(const brdffit_optimizer *opt)
 {
     const bf_optim_work *w = &opt->w;
@@ -109,7 +111,7 @@ static int step_small(const brdffit_optimizer *opt)
     double xtol = opt->settings.xtol, ds = 0.0, dx = 0.0;
     if (opt->settings.step_test == 0) {
         for (j = 0; j < p; j++)
-            if (!(fabs(w->step[j]) <= xtol * (fabs(w->x[j]) + xtol))) return 0;
+            if (!(fabs(w->step[j]) <= xtol * (fabs(w->x[j]) + xtol * w->xscale[j]))) return 0;
         return 1;
     }
     for (j = 0; j < p; j++) {
