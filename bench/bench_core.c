@@ -130,6 +130,7 @@ static brdffit_status setup_problem(core_case *cc)
     pb->plan_sa = &cc->plan;
     pb->nc = cc->nc;
     pb->source = BF_SOURCE_CHANNELS;
+    pb->objective = BRDFFIT_OBJECTIVE_SQUARES; /* the passes of the squares cost */
     pb->threads = 1;
     bf_layout_init(&pb->ly, cc->model, cc->nc);
     bf_layout_entries(&pb->ly, cc->model, cc->vindex, NULL);

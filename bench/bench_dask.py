@@ -8,7 +8,9 @@ overhead per task against the local loop (docs/python.md, Figures).
 
 The work is a texel map: every texel an Ashikhmin-Shirley measurement over
 the same regular layout (16 x 21 x 19 = 6384 samples, 3 channels) made from
-its own known parameters, fitted with the default (auto) pipeline. Each
+its own known parameters, fitted with the default (auto) pipeline under the
+squares objective (``OPTIONS``: the objective of the figures in docs/python.md,
+whatever the library's default). Each
 figure is the best of --repeat runs after a warm-up run; a cluster run
 includes scattering the geometry, shipping the values (an array in memory:
 with the tasks, through the scheduler; a .npy map file: each worker reads
@@ -27,6 +29,9 @@ import numpy as np
 
 import brdffit
 import brdffit.dask as bd
+
+#: Every fit's options: the squares objective, so figures compare across versions.
+OPTIONS = {"objective": "squares"}
 
 AXES = tuple(np.arange(lo, hi, step) * (math.pi / 180.0)
              for lo, hi, step in ((0.0, 76.0, 5.0), (0.0, 81.0, 4.0), (0.0, 181.0, 10.0)))
@@ -62,7 +67,7 @@ def cluster_time(n_workers, geometry, values, per_task, repeat, model="ashikhmin
     with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                       host="127.0.0.1", dashboard_address=None, silence_logs=50) as cluster, \
             Client(cluster) as client:
-        return best_time(lambda: bd.fit_texels(client, geometry, values, model,
+        return best_time(lambda: bd.fit_texels(client, geometry, values, model, options=OPTIONS,
                                                per_task=per_task), repeat)
 
 
@@ -79,7 +84,7 @@ def report_tiny(args):
     n_tiny = 100
     tiny = tiny_batch(n_tiny)
     t = cluster_time(1, tiny[0], tiny[1], 1, args.repeat, "lambert")
-    alone = best_time(lambda: bd.fit_texels_local(*tiny, "lambert"), args.repeat)
+    alone = best_time(lambda: bd.fit_texels_local(*tiny, "lambert", options=OPTIONS), args.repeat)
     print("round trip of a task of one tiny fit, 1 worker: %.2f ms (the fit alone, locally: "
           "%.3f ms)" % (1e3 * t / n_tiny, 1e3 * alone / n_tiny))
 
@@ -116,7 +121,8 @@ def main():
     print("brdffit.dask: %d texels of %d samples, %d per task (%d tasks); %d CPUs, load %.2f"
           % (args.texels, geometry.sample_count, args.per_task,
              math.ceil(args.texels / args.per_task), os.cpu_count(), os.getloadavg()[0]))
-    local = best_time(lambda: bd.fit_texels_local(geometry, values), args.repeat)
+    local = best_time(lambda: bd.fit_texels_local(geometry, values, options=OPTIONS),
+                      args.repeat)
     print("local loop            %8.1f fits/s  (%.3f s)" % (args.texels / local, local))
     report_tiny(args)
     report_source("array", geometry, values, local, args)

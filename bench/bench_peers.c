@@ -21,8 +21,9 @@
  * the geometry (n.h, h.v, max(n.l, n.v)) is computed once before timing,
  * as libbrdffit's grid holds it.
  *
- * Stopping: libbrdffit's defaults (xtol 1e-10 on the step, ftol 1e-12 on
- * the relative cost reduction, gtol 1e-10); GSL xtol 1e-10 with its
+ * Stopping: libbrdffit's fit settings (xtol 1e-10 on the step, ftol 1e-13
+ * on the relative cost reduction with the cost lookahead, gtol 1e-13;
+ * lib/fit/stage.c); GSL xtol 1e-10 with its
  * absolute gradient test switched off (it compares against max(cost, 1),
  * far above these costs); MINPACK ftol 1e-12, xtol 1e-10, gtol 0.
  * Every final cost is recomputed as sum r^2 by the same code, so the

@@ -142,8 +142,8 @@ static brdffit_status configure(brdffit_fit *fit, const bd_fit_job *job)
     BH_TRY(brdffit_fit_set(fit, BRDFFIT_FIT_THREADS, (double)(job->threads ? job->threads : 1)));
     if (job->start != NULL) BH_TRY(brdffit_fit_set_start(fit, job->start));
     if (job->damping != NULL) BH_TRY(brdffit_fit_set_damping(fit, job->damping));
-    if (job->objective != BRDFFIT_OBJECTIVE_SQUARES)
-        BH_TRY(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)job->objective));
+    /* always set: a zeroed job means the squares, not the library's default */
+    BH_TRY(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)job->objective));
     return BRDFFIT_OK;
 }
 

@@ -66,7 +66,8 @@ typedef struct bd_fit_job {
     size_t threads;                 /* BRDFFIT_FIT_THREADS */
     bh_counter *counter;            /* NULL: the default allocator */
     const brdffit_damping *damping; /* NULL: the default policy */
-    brdffit_objective objective;    /* BRDFFIT_FIT_OBJECTIVE; 0 (zeroed job): the squares */
+    brdffit_objective objective;    /* BRDFFIT_FIT_OBJECTIVE; 0 (zeroed job): the squares, whatever
+                                     * the library's default, so figures stay comparable */
 } bd_fit_job;
 
 typedef struct bd_fit_result {

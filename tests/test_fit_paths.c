@@ -15,7 +15,7 @@ static void fit_both_ways(const char *name, brdffit_pipeline pipeline, const brd
 {
     brdffit_model *fast = NULL, *slow = NULL;
     brdffit_fit *a = NULL, *b = NULL;
-    double pa[MAXV], pb[MAXV], ca, cb;
+    double pa[MAXV], pb[MAXV], se[MAXV], ca, cb;
     size_t n, i;
     assert_int_equal(brdffit_model_create(&fast, name, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(brdffit_model_create(&slow, name, NULL, NULL), BRDFFIT_OK);
@@ -32,14 +32,19 @@ static void fit_both_ways(const char *name, brdffit_pipeline pipeline, const brd
     assert_int_equal(brdffit_fit_params(b, pb), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_error(a, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &ca), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_error(b, BRDFFIT_METRIC_COST, BRDFFIT_ALL_CHANNELS, &cb), BRDFFIT_OK);
-    /* the paths round differently; the optimum they reach is the same */
+    assert_int_equal(brdffit_fit_std_errors(b, se), BRDFFIT_OK);
+    /* the paths round differently; the optimum they reach is the same: the
+     * parameters agree to 1e-5 of their size, or, where the data leave a
+     * parameter poorly determined (a colour near 0 in a flat valley, whose
+     * last steps follow the rounding), to 1 % of its standard error */
     assert_close(ca / cb, 1.0, 1e-7);
     for (i = 0; i < n; i++) {
-        double scale = fmax(fabs(pb[i]), 1e-3);
-        if (!(fabs(pa[i] - pb[i]) <= 1e-5 * scale))
-            print_error("%s pipeline %d: parameter %zu basis %.15g generic %.15g\n", name,
-                        (int)pipeline, i, pa[i], pb[i]);
-        assert_true(fabs(pa[i] - pb[i]) <= 1e-5 * scale);
+        double scale = fmax(fabs(pb[i]), 1e-3), d = fabs(pa[i] - pb[i]);
+        int same = d <= 1e-5 * scale || (se[i] > 0.0 && se[i] < HUGE_VAL && d <= 0.01 * se[i]);
+        if (!same)
+            print_error("%s pipeline %d: parameter %zu basis %.15g generic %.15g (se %g)\n",
+                        name, (int)pipeline, i, pa[i], pb[i], se[i]);
+        assert_true(same);
     }
     brdffit_fit_destroy(a);
     brdffit_fit_destroy(b);

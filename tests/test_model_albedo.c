@@ -3,11 +3,13 @@
  * lobe, the Blinn-Phong lobe at normal incidence, sharp lobes at oblique
  * incidence, a near-mirror GGX lobe), the quality setting, every bad
  * input with its status, and the tabulated bound of the built-in lobes
- * (models/lobes.h) against the integral. */
+ * (models/lobes.h) against the integral, Lafortune's against an integral
+ * of the test's own. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "core/quadrature.h"
 #include "models/lobes.h"
 #include "test_support.h"
 
@@ -298,6 +300,90 @@ static void test_lobe_bound(void **state)
     }
 }
 
+/* Lafortune's lobe with colour 1 (base = u.v, u = (-sin ti, 0, cz cos ti)
+ * for the light in the xz plane) by its definition: the integral over the
+ * upper hemisphere of v of max(0, u.v)^n v_z, taken in the coordinates of
+ * v about u (angle g from it, azimuth p about it), where the lobe is
+ * (|u| cos g)^n, a spike at g = 0 however large n: 8-point Gauss-Legendre
+ * panels in g halving towards 0, the midpoint rule over p with v_z
+ * clipped at 0. It shares nothing with the library's quadrature nor with
+ * the table's integral (which takes p in closed form); 2e-4 or better. */
+#define REF_P 256
+
+static double lafortune_reference(double n, double cz, double ti)
+{
+    const double ux = -sin(ti), uz = cz * cos(ti), m = sqrt(ux * ux + uz * uz);
+    double x[8], w[8], cos_p[REF_P], hi = PI / 2, sum = 0.0;
+    size_t k, j, q;
+    if (!(m > 0.0)) return 0.0;
+    bf_gauss_legendre(8, x, w);
+    for (q = 0; q < REF_P; q++) cos_p[q] = cos(PI * ((double)q + 0.5) / REF_P);
+    for (k = 0; k < 32; k++) {
+        double lo = k == 31 ? 0.0 : 0.5 * hi, mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+        for (j = 0; j < 8; j++) {
+            /* v = cos g a + sin g (cos p e1 + sin p e2), a = u / m, e1 = (a_z, 0, -a_x):
+             * v_z = cos g a_z - sin g cos p a_x */
+            double g = mid + half * x[j], az = cos(g) * uz / m, ax = sin(g) * ux / m, ring = 0.0;
+            for (q = 0; q < REF_P; q++) ring += fmax(az - ax * cos_p[q], 0.0);
+            sum += w[j] * half * sin(g) * pow(m * cos(g), n) * ring * (2.0 * PI / REF_P);
+        }
+        hi = lo;
+    }
+    return sum;
+}
+
+/* Lafortune's bound (its axial table) at points between the table's nodes
+ * over the whole range of n and over cz: never below the largest albedo
+ * over the bound's angles, by the reference above, and at most 3 % above
+ * it. Also the reference against the library's integral where that
+ * resolves the lobe (n >= 3, cz = 1: the mirror lobe), and no bound outside
+ * the table's range of n. */
+static void test_lafortune_bound(void **state)
+{
+    static const double deg[BF_ALBEDO_ANGLES] = BF_ALBEDO_ANGLES_DEG;
+    static const double CZ[] = {0.0, 0.013, 0.21, 0.58, 0.87, 0.996, 1.0};
+    brdffit_model *m = make("lafortune");
+    const bf_lobes *lobes = bf_model_lobes(m);
+    const bf_lobe_desc *l;
+    double worst = 0.0, ti[BF_ALBEDO_ANGLES], lib[BF_ALBEDO_ANGLES];
+    size_t s, k, t;
+    (void)state;
+    assert_non_null(lobes);
+    l = &lobes->lobe[0];
+    assert_null(l->albedo);
+    assert_non_null(l->axial);
+    assert_string_equal(brdffit_model_param(m, l->fresnel)->name, "cz");
+    for (t = 0; t < BF_ALBEDO_ANGLES; t++) ti[t] = deg[t] * PI / 180.0;
+    for (s = 0; s < 7; s++) {
+        /* 0.37, 12.0, ... cells into the table of n: between nodes */
+        double cell = 0.37 + (double)s * ((double)(l->axial->n - 2) / 6.1);
+        double n = pow(10.0, l->axial->log10_lo + cell / l->axial->per_decade);
+        double v[4] = {0.0, 1.0, 0.0, 1.0};
+        for (k = 0; k < sizeof CZ / sizeof CZ[0]; k++) {
+            double truth = 0.0, bound = bf_lobe_albedo_bound(l, n, CZ[k]);
+            for (t = 0; t < BF_ALBEDO_ANGLES; t++)
+                truth = fmax(truth, lafortune_reference(n, CZ[k], ti[t]));
+            if (!(truth > 1e-300)) continue; /* m^n underflows: nothing to bound */
+            if (!(bound >= truth && bound <= 1.03 * truth))
+                print_error("lafortune at n %g, cz %g: bound %.9g, integral %.9g\n", n, CZ[k],
+                            bound, truth);
+            assert_true(bound >= truth && bound <= 1.03 * truth);
+            worst = fmax(worst, bound / truth - 1.0);
+        }
+        /* the reference against the library where both are accurate */
+        if (n < 3.0) continue;
+        v[0] = n;
+        albedo_ok(m, v, 1, ti, BF_ALBEDO_ANGLES, 0, lib);
+        for (t = 0; t < BF_ALBEDO_ANGLES; t++)
+            expect_rel(lafortune_reference(n, 1.0, ti[t]), lib[t], 2e-4, "lafortune reference",
+                       ti[t]);
+    }
+    printf("lafortune: largest excess of the bound over the integral: %.3g\n", worst);
+    assert_true(bf_lobe_albedo_bound(l, 1e-4, 0.5) == 0.0);
+    assert_true(bf_lobe_albedo_bound(l, 2e6, 0.5) == 0.0);
+    brdffit_model_destroy(m);
+}
+
 /* The lobe descriptions agree with the declared parameters: every
  * lobe's colour is a linear parameter and its sharpness a shared one
  * (log-scaled), a Fresnel parameter lies in [0, 1]; the two-lobe models
@@ -349,6 +435,7 @@ int main(void)
         cmocka_unit_test(test_quality),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_lobe_bound),
+        cmocka_unit_test(test_lafortune_bound),
         cmocka_unit_test(test_lobe_descriptions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

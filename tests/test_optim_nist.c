@@ -15,6 +15,7 @@
 
 #include <cmocka.h>
 
+#include "core/linalg.h"
 #include "nist_problems.h"
 
 #define MAX_OBS 256
@@ -218,12 +219,78 @@ static void test_plateaus_reported_stalled(void **state)
     }
 }
 
+/* Where two of Lanczos1's exponentials merge (b4 = b6, reached in mixed
+ * units when the scaling's floor compared the columns in the parameters'
+ * units): the fit of two exponentials, cost 4.29e-6 against the
+ * certified 1.4e-25. It is a genuine local minimum, not a saddle the
+ * stationarity test misses: the gradient vanishes, and the Hessian of the
+ * cost (differences of the analytic gradient, scaled to unit diagonal of
+ * J^T J) has no negative eigenvalue, one zero for the exact invariance
+ * b3 + b5 = const. So the run is reported converged, as Jennrich-Sampson's
+ * minimum (two merged exponentials too), and the standard errors report
+ * the four parameters of the merged terms as undetermined. */
+static void test_merged_exponentials(void **state)
+{
+    static const double b0[6] = {0.4440129982, 1.872465649,  3.506087652,
+                                 4.639643155,  -1.437306977, 4.639643178};
+    size_t n, k, i, j, m;
+    const nist_problem *ps = nist_problems(&n);
+    const nist_problem *p;
+    brdffit_optimizer *opt = NULL;
+    double x[6], se[6], h[36], w[6], v[36], sc[6], r[MAX_OBS], jac[MAX_OBS * 6];
+    (void)state;
+    for (k = 0; k < n && strcmp(ps[k].name, "Lanczos1") != 0; k++) continue;
+    assert_true(k < n);
+    p = &ps[k];
+    m = p->n_obs;
+    memcpy(x, b0, sizeof x);
+    assert_int_equal(brdffit_optimizer_create(&opt, 6, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_set_residuals(opt, m, nist_residuals, (void *)p),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_optimizer_run(opt, x), BRDFFIT_OK);
+    assert_true(brdffit_optimizer_converged(opt));
+    assert_true(fabs(brdffit_optimizer_final_cost(opt) - 4.2906e-6) <= 1e-3 * 4.2906e-6);
+    assert_int_equal(brdffit_optimizer_std_errors(opt, se), BRDFFIT_OK);
+    for (j = 0; j < 6; j++) assert_true(j < 2 ? isfinite(se[j]) : se[j] == HUGE_VAL);
+    brdffit_optimizer_destroy(opt);
+    /* the Hessian of cost / 2 at the point reached */
+    assert_int_equal(nist_residuals(x, r, jac, (void *)p), BRDFFIT_OK);
+    for (j = 0; j < 6; j++) {
+        double a = 0.0;
+        for (i = 0; i < m; i++) a += jac[i * 6 + j] * jac[i * 6 + j];
+        sc[j] = 1.0 / sqrt(a);
+    }
+    for (j = 0; j < 6; j++) {
+        double xp[6], xm[6], gp[6], gm[6], step = 1e-6 * fabs(x[j]);
+        memcpy(xp, x, sizeof xp);
+        memcpy(xm, x, sizeof xm);
+        xp[j] += step;
+        xm[j] -= step;
+        for (k = 0; k < 2; k++) {
+            double *g = k ? gm : gp;
+            size_t l;
+            assert_int_equal(nist_residuals(k ? xm : xp, r, jac, (void *)p), BRDFFIT_OK);
+            for (l = 0; l < 6; l++)
+                for (g[l] = 0.0, i = 0; i < m; i++) g[l] += jac[i * 6 + l] * r[i];
+        }
+        for (i = 0; i < 6; i++) h[i * 6 + j] = (gp[i] - gm[i]) / (2.0 * step) * sc[i] * sc[j];
+    }
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < i; j++) h[i * 6 + j] = h[j * 6 + i] = 0.5 * (h[i * 6 + j] + h[j * 6 + i]);
+    bf_sym_eigen(h, 6, w, v);
+    for (j = 0; j < 6; j++) {
+        printf("merged exponentials: Hessian eigenvalue %.3e\n", w[j]);
+        assert_true(w[j] > -1e-9);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_data_match_certified_rss),
         cmocka_unit_test(test_jacobians_match_differences),
         cmocka_unit_test(test_plateaus_reported_stalled),
+        cmocka_unit_test(test_merged_exponentials),
         cmocka_unit_test(test_default_solves_all),
         cmocka_unit_test(test_marquardt),
         cmocka_unit_test(test_thesis),

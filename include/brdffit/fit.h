@@ -5,8 +5,11 @@
  *
  * A fit binds a grid and a model (both borrowed: they must outlive the fit
  * and may be shared with other fits and threads) and options; brdffit_fit_run()
- * computes the parameters that minimise the weighted cost (docs/definitions.md,
- * Cost and error figures),
+ * computes the parameters that minimise the fit's objective (::brdffit_objective,
+ * ::BRDFFIT_FIT_OBJECTIVE): by default the squared differences of the cube
+ * roots of cosine-weighted values, whose fits render closest to the
+ * measurement; under ::BRDFFIT_OBJECTIVE_SQUARES the thesis's weighted cost
+ * (docs/definitions.md, Cost and error figures),
  *
  *     cost = sum over active samples s and channels c of
  *            (w_s * (M_c(s; p) - R_c(s)))^2,
@@ -24,9 +27,10 @@
  *   is deterministic and does not depend on any start value.
  * - ::BRDFFIT_PIPELINE_JOINT: one Levenberg-Marquardt run over all
  *   parameters of all channels from the start values.
- * - ::BRDFFIT_PIPELINE_TWO_STAGE: the thesis's method: the shape and mean
- *   colours fitted to the channel mean from the start values, then each
- *   channel's colours with the shape held fixed.
+ * - ::BRDFFIT_PIPELINE_TWO_STAGE: the thesis's method (with
+ *   ::BRDFFIT_OBJECTIVE_SQUARES): the shape and mean colours fitted to the
+ *   channel mean from the start values, then each channel's colours with
+ *   the shape held fixed.
  *
  * Every pipeline keeps parameters inside the model's bounds (colours >= 0,
  * Fresnel terms in [0, 1], exponents and roughness in range) and optimises
@@ -82,7 +86,7 @@ typedef enum brdffit_fit_setting {
     BRDFFIT_FIT_CLEARCOAT = 4,      /**< Clear-coat R0 in [0, 1); 0 (default) switches compensation off. */
     BRDFFIT_FIT_THREADS = 5,        /**< Threads for each pass over the samples, 1 .. 64; default 1. */
     BRDFFIT_FIT_MAX_ITERATIONS = 6, /**< Iteration limit of each LM run; default 200. */
-    BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_SQUARES. */
+    BRDFFIT_FIT_OBJECTIVE = 7,      /**< A ::brdffit_objective; default ::BRDFFIT_OBJECTIVE_CUBE_ROOT. */
     BRDFFIT_FIT_PLAUSIBLE = 8,      /**< 0, 1 (default) or 2: how the auto pipeline bounds the colours by energy conservation (see below). */
     BRDFFIT_FIT_COVARIANCE = 9      /**< The estimator of brdffit_fit_std_errors() and brdffit_fit_covariance(): 0 classic (default), 1 sandwich (HC3); see brdffit_fit_covariance() for the noise each assumes. */
 } brdffit_fit_setting;
@@ -94,18 +98,18 @@ typedef enum brdffit_fit_setting {
  * and its polish, the diffuse colour "cd" at most 1 (the albedo of a
  * Lambertian cd) and the colour of each specular lobe of a built-in model
  * (phong, blinn-phong, ashikhmin-shirley and its -fresnel and -2 forms,
- * cook-torrance, ggx and their -2 forms, ward, ward-duer) at most 1 / A, A
- * an upper bound on the largest directional albedo of the lobe with
- * colour 1 over incidence angles 0, 30, 50, 65, 75 and 85 degrees at the
- * current shape: read from a table of the lobe's albedo over its
- * sharpness computed offline with brdffit_model_albedo() and
+ * cook-torrance, ggx and their -2 forms, ward, ward-duer, lafortune) at
+ * most 1 / A, A an upper bound on the largest directional albedo of the
+ * lobe with colour 1 over incidence angles 0, 30, 50, 65, 75 and 85
+ * degrees at the current shape: read from a table of the lobe's albedo
+ * over its sharpness (Lafortune's: of its form as a cosine lobe about its
+ * axis, over n and the axis's polar cosine) computed offline and
  * interpolated, with a margin for the interpolation and the quadrature,
  * so it is never below the integral and at most 3 % above it (1 % or
  * less on the tested shapes; tests/test_model_albedo.c). A polished
  * result is bounded again at its own shape and polished once more if it
  * broke the bound (up to 4 times, then clamped). The table look-ups cost
- * nothing measurable. Lafortune's lobe (its albedo depends on n and cz
- * alike) and user models get the cd bound alone.
+ * nothing measurable. User models get the cd bound alone.
  *
  * 2: the same, but at the shape of every polished candidate and result
  * each colour (linear parameter) is bounded by the integral itself:
@@ -152,6 +156,12 @@ typedef enum brdffit_fit_setting {
  * a few grazing spikes cannot lift delta above most values.
  * The error figures e and E do not change with the objective; the cost
  * (::BRDFFIT_METRIC_COST) is the objective's sum of r^2.
+ * CUBE_ROOT is the default: of the four, its fits render closest to the
+ * measurement (sphere PSNR of the fitted model against the measured data,
+ * docs/fitting.md, Choosing the objective; Sun, Jensen and Ramamoorthi
+ * 2018 found the same over 100 MERL materials). SQUARES, the thesis's
+ * cost, lets the few brightest samples at the highlight dominate; set it
+ * to reproduce the thesis's method (joint or two-stage) or figures.
  * The auto pipeline under LOG, CUBE_ROOT or RELATIVE scans the shape
  * parameters on the objective's own profile: at every shape point the
  * colours solved exactly for squared values are carried to the objective's
@@ -163,7 +173,7 @@ typedef enum brdffit_fit_setting {
 typedef enum brdffit_objective {
     BRDFFIT_OBJECTIVE_SQUARES = 0,   /**< Weighted squares of values (the thesis's cost). */
     BRDFFIT_OBJECTIVE_LOG = 1,       /**< Compressive log of cosine-weighted values. */
-    BRDFFIT_OBJECTIVE_CUBE_ROOT = 2, /**< Cube root of cosine-weighted values. */
+    BRDFFIT_OBJECTIVE_CUBE_ROOT = 2, /**< Cube root of cosine-weighted values (the default). */
     BRDFFIT_OBJECTIVE_RELATIVE = 3   /**< Differences relative to the measured value. */
 } brdffit_objective;
 

@@ -60,7 +60,9 @@ static void fit_defaults(brdffit_fit *fit)
     fit->clearcoat = 0.0;
     fit->threads = 1;
     fit->max_iterations = 200;
-    fit->objective = BRDFFIT_OBJECTIVE_SQUARES;
+    /* cube-root: its fits render closest to the measurement (docs/fitting.md,
+     * Choosing the objective) */
+    fit->objective = BRDFFIT_OBJECTIVE_CUBE_ROOT;
     fit->plausible = 1;
     fit->sandwich = 0;
     fit->damping = *brdffit_damping_nielsen();

@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "core/core.h"
 #include "models/kernel.h"
 #include "models/model_internal.h"
 
@@ -15,23 +16,27 @@
  * cd, cs; ward, ward-duer: a, cd, cs; ashikhmin-shirley-fresnel: ns, Rs, cd,
  * cs; cook-torrance, ggx: m (a), F0, cd, cs; lafortune: n, cz, cd, cs;
  * ashikhmin-shirley-2: ns1, ns2, cd, cs1, cs2; cook-torrance-2, ggx-2: m1
- * (a1), m2 (a2), F0, cd, cs1, cs2. */
-static const bf_lobes phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_phong}}};
-static const bf_lobes blinn_phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_blinn_phong}}};
-static const bf_lobes as = {1, 0, {{2, 0, 1, NO, &bf_albedo_ashikhmin}}};
-static const bf_lobes as_fresnel = {1, 0, {{3, 0, 1, 1, &bf_albedo_ashikhmin}}};
+ * (a1), m2 (a2), F0, cd, cs1, cs2. Every lobe but Lafortune's has a table
+ * over its sharpness (and its Fresnel parameter). */
+static const bf_lobes phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_phong, NULL}}};
+static const bf_lobes blinn_phong = {1, 0, {{2, 0, 1, NO, &bf_albedo_blinn_phong, NULL}}};
+static const bf_lobes as = {1, 0, {{2, 0, 1, NO, &bf_albedo_ashikhmin, NULL}}};
+static const bf_lobes as_fresnel = {1, 0, {{3, 0, 1, 1, &bf_albedo_ashikhmin, NULL}}};
 static const bf_lobes as_2 = {
-    2, 1, {{3, 0, 1, NO, &bf_albedo_ashikhmin}, {4, 1, 1, NO, &bf_albedo_ashikhmin}}};
-static const bf_lobes ct = {1, 0, {{3, 0, 0, 1, &bf_albedo_cook_torrance}}};
+    2, 1, {{3, 0, 1, NO, &bf_albedo_ashikhmin, NULL}, {4, 1, 1, NO, &bf_albedo_ashikhmin, NULL}}};
+static const bf_lobes ct = {1, 0, {{3, 0, 0, 1, &bf_albedo_cook_torrance, NULL}}};
 static const bf_lobes ct_2 = {
-    2, 1, {{4, 0, 0, 2, &bf_albedo_cook_torrance}, {5, 1, 0, 2, &bf_albedo_cook_torrance}}};
-static const bf_lobes ggx = {1, 0, {{3, 0, 0, 1, &bf_albedo_ggx}}};
-static const bf_lobes ggx_2 = {2, 1, {{4, 0, 0, 2, &bf_albedo_ggx}, {5, 1, 0, 2, &bf_albedo_ggx}}};
-static const bf_lobes ward = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward}}};
-static const bf_lobes ward_duer = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward_duer}}};
-/* Lafortune's albedo depends on n and cz alike: no table (a 2-D one
- * would be needed), so only BRDFFIT_FIT_PLAUSIBLE 2 bounds its lobe. */
-static const bf_lobes lafortune = {1, 0, {{3, 0, 1, NO, NULL}}};
+    2,
+    1,
+    {{4, 0, 0, 2, &bf_albedo_cook_torrance, NULL}, {5, 1, 0, 2, &bf_albedo_cook_torrance, NULL}}};
+static const bf_lobes ggx = {1, 0, {{3, 0, 0, 1, &bf_albedo_ggx, NULL}}};
+static const bf_lobes ggx_2 = {
+    2, 1, {{4, 0, 0, 2, &bf_albedo_ggx, NULL}, {5, 1, 0, 2, &bf_albedo_ggx, NULL}}};
+static const bf_lobes ward = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward, NULL}}};
+static const bf_lobes ward_duer = {1, 0, {{2, 0, 0, NO, &bf_albedo_ward_duer, NULL}}};
+/* Lafortune's albedo depends on n and cz alike: the table of its axial
+ * form, cz (declared index 1) as the bound's second parameter. */
+static const bf_lobes lafortune = {1, 0, {{3, 0, 1, 1, NULL, &bf_albedo_lafortune}}};
 
 /* Built-ins without an entry (lambert, the glTF and OpenPBR models) have no
  * lobe with a linear colour: their colours are not linear parameters, and
@@ -75,19 +80,58 @@ static double node(const bf_albedo_table *a, size_t i, size_t t, double f)
     return f * v[t] + (1.0 - f) * v[BF_ALBEDO_ANGLES + t];
 }
 
+/* The cell of coordinate x (in nodes) of a table of n nodes, and the
+ * weight of its upper node; 0 when x lies outside the table. */
+static int cell(double x, size_t n, size_t *i, double *w)
+{
+    if (!(n >= 2 && x >= -1e-9 && x <= (double)(n - 1) + 1e-9)) return 0;
+    x = fmin(fmax(x, 0.0), (double)(n - 1));
+    *i = x >= (double)(n - 1) ? n - 2 : (size_t)x;
+    *w = x - (double)*i;
+    return 1;
+}
+
+/* Lafortune's lobe max(0, base)^n, base = cz l_z v_z - (l_x v_x + l_y v_y)
+ * = u.v, u = (-l_x, -l_y, cz l_z): m^n max(0, a.v)^n with m = |u| and
+ * a = u / m, so its albedo at theta_i is m^n H(n, a_z) (lobes.h). */
+static double axial_bound(const bf_axial_table *a, double n, double cz)
+{
+    static const double deg[BF_ALBEDO_ANGLES] = BF_ALBEDO_ANGLES_DEG;
+    const double lnc_lo = a->log10_c_lo * 2.302585092994046, *h = a->log_h;
+    const size_t nc = a->n_c;
+    double w, top = 0.0;
+    size_t i, t;
+    if (!(cz >= 0.0 && cz <= 1.0) || !(n > 0.0) ||
+        !cell((log10(n) - a->log10_lo) * a->per_decade, a->n, &i, &w))
+        return 0.0;
+    for (t = 0; t < BF_ALBEDO_ANGLES; t++) {
+        const double cti = cos(deg[t] * (BF_PI / 180.0));
+        const double m2 = 1.0 - (1.0 - cz * cz) * cti * cti;
+        double lnc = lnc_lo, v, lnh;
+        size_t j;
+        if (!(m2 > 0.0)) continue; /* normal incidence, cz = 0: base = 0 everywhere */
+        /* ln c, c = cz ct / m, at least the table's first node */
+        if (cz > 0.0) lnc = fmax(log(cz * cti) - 0.5 * log(m2), lnc_lo);
+        if (!cell((lnc - lnc_lo) / 2.302585092994046 * a->c_per_decade, nc, &j, &v)) continue;
+        lnh = (1.0 - w) * ((1.0 - v) * h[i * nc + j] + v * h[i * nc + j + 1]) +
+              w * ((1.0 - v) * h[(i + 1) * nc + j] + v * h[(i + 1) * nc + j + 1]) +
+              2.0 * a->excess[i * (nc - 1) + j];
+        top = fmax(top, exp(0.5 * n * log(m2) + lnh));
+    }
+    return top * (1.0 + 1e-3);
+}
+
 double bf_lobe_albedo_bound(const bf_lobe_desc *lobe, double shape, double fresnel)
 {
     const bf_albedo_table *a = lobe->albedo;
-    double x, w, f = lobe->fresnel == NO ? 1.0 : fmin(fmax(fresnel, 0.0), 1.0);
+    double w, f = lobe->fresnel == NO ? 1.0 : fmin(fmax(fresnel, 0.0), 1.0);
     double top = 0.0, col[2] = {0.0, 0.0};
     size_t i, t;
-    if (a == NULL || a->n < 2) return 0.0;
+    if (lobe->axial != NULL) return axial_bound(lobe->axial, shape, fresnel);
     /* outside the table (bounds wider than the declared ones): no bound */
-    x = shape > 0.0 ? (log10(shape) - a->log10_lo) * a->per_decade : -1.0;
-    if (!(x >= -1e-9 && x <= (double)(a->n - 1) + 1e-9)) return 0.0;
-    x = fmin(fmax(x, 0.0), (double)(a->n - 1));
-    i = x >= (double)(a->n - 1) ? a->n - 2 : (size_t)x;
-    w = x - (double)i;
+    if (a == NULL || !(shape > 0.0) ||
+        !cell((log10(shape) - a->log10_lo) * a->per_decade, a->n, &i, &w))
+        return 0.0;
     for (t = 0; t < BF_ALBEDO_ANGLES; t++) {
         top = fmax(top, (1.0 - w) * node(a, i, t, f) + w * node(a, i + 1, t, f));
         col[0] = fmax(col[0], (1.0 - w) * node(a, i, t, 1.0) + w * node(a, i + 1, t, 1.0));

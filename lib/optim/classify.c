@@ -100,9 +100,11 @@ static int not_stationary(brdffit_optimizer *opt, double cost)
 
 brdffit_stop_reason bf_optim_classify(brdffit_optimizer *opt, brdffit_stop_reason stop, double cost)
 {
-    if (stop != BRDFFIT_STOP_STEP && stop != BRDFFIT_STOP_COST && stop != BRDFFIT_STOP_GRADIENT)
+    if (stop != BRDFFIT_STOP_STEP && stop != BRDFFIT_STOP_COST && stop != BRDFFIT_STOP_GRADIENT &&
+        stop != BRDFFIT_STOP_ZERO_COST)
         return stop;
     if (column_vanished(opt)) return BRDFFIT_STOP_STALLED;
+    if (stop == BRDFFIT_STOP_ZERO_COST) return stop; /* a zero cost is a minimum */
     if (stop != BRDFFIT_STOP_GRADIENT && not_stationary(opt, cost)) return BRDFFIT_STOP_STALLED;
     return stop;
 }

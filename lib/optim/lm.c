@@ -99,9 +99,11 @@ static brdffit_stop_reason check_before(const lm_run *run)
 }
 
 /* Step test 0: every parameter's step is small against its own
- * magnitude, so a large parameter does not hide the others' progress.
- * Step test 1 (MINPACK's xtol): ||D^1/2 step|| <= xtol ||D^1/2 x||, the
- * step and the point measured in the scaling D. */
+ * magnitude, so a large parameter does not hide the others' progress;
+ * near 0, against xtol times its scale (the largest magnitude it had in
+ * the run), so that runs converging to 0 end and the test does not depend
+ * on the parameters' units. Step test 1 (MINPACK's xtol): ||D^1/2 step||
+ * <= xtol ||D^1/2 x||, the step and the point measured in the scaling D. */
 static int step_small(const brdffit_optimizer *opt)
 {
     const bf_optim_work *w = &opt->w;
@@ -109,7 +111,7 @@ static int step_small(const brdffit_optimizer *opt)
     double xtol = opt->settings.xtol, ds = 0.0, dx = 0.0;
     if (opt->settings.step_test == 0) {
         for (j = 0; j < p; j++)
-            if (!(fabs(w->step[j]) <= xtol * (fabs(w->x[j]) + xtol))) return 0;
+            if (!(fabs(w->step[j]) <= xtol * (fabs(w->x[j]) + xtol * w->xscale[j]))) return 0;
         return 1;
     }
     for (j = 0; j < p; j++) {
@@ -126,6 +128,13 @@ static int reduction_small(const lm_run *run)
 {
     double limit = run->opt->settings.ftol * run->cost_before;
     return run->actual <= limit && run->pred <= limit;
+}
+
+/* The cost lookahead (BRDFFIT_OPT_COST_LOOKAHEAD): the step about to be
+ * tried promises a reduction, but at most ftol * cost. */
+static int gain_small(const lm_run *run)
+{
+    return run->pred > 0.0 && run->pred <= run->opt->settings.ftol * run->cost;
 }
 
 /* --- one iteration -------------------------------------------------------------- */
@@ -188,13 +197,40 @@ static int try_step(lm_run *run)
     return 1;
 }
 
-/* The length of the last step in the scaling D. */
-static double scaled_length(const bf_optim_work *w, size_t p)
+/* The length of the last step in the scaling D; with nonzero, over the
+ * parameters that are not 0 at the current point only. */
+static double masked_length(const bf_optim_work *w, size_t p, int nonzero)
 {
     double s = 0.0;
     size_t j;
-    for (j = 0; j < p; j++) s += w->d[j] * w->step[j] * w->step[j];
+    for (j = 0; j < p; j++)
+        if (!nonzero || w->x[j] != 0.0) s += w->d[j] * w->step[j] * w->step[j];
     return sqrt(s);
+}
+
+static double scaled_length(const bf_optim_work *w, size_t p)
+{
+    return masked_length(w, p, 0);
+}
+
+/* lambda raised (by at least 2, else by the ratio of the lengths) until
+ * the step is no longer than target in the scaling D (with nonzero, over
+ * the parameters not at 0). Returns the new lambda, at least lambda. */
+static double raise_lambda(lm_run *run, double lambda, double target, int nonzero)
+{
+    brdffit_optimizer *opt = run->opt;
+    const bf_optim_work *w = &opt->w;
+    size_t k, p = opt->n_params;
+    int bounded = 0, fallback = 0;
+    if (!(target > 0.0)) return lambda;
+    for (k = 0; k < 60; k++) {
+        double len;
+        (void)bf_optim_step(opt, lambda, 1.0, run->bound, &bounded, &fallback);
+        len = masked_length(w, p, nonzero);
+        if (!(len > target) || lambda >= BF_LAMBDA_MAX) break;
+        lambda = fmin(BF_LAMBDA_MAX, lambda * fmax(2.0, len / target));
+    }
+    return lambda;
 }
 
 /* Step control (BRDFFIT_OPT_STEP_CONTROL), after a rejected step whose
@@ -206,24 +242,31 @@ static double scaled_length(const bf_optim_work *w, size_t p)
  * least lambda. */
 static double shrink_lambda(lm_run *run, double lambda)
 {
-    brdffit_optimizer *opt = run->opt;
-    const bf_optim_work *w = &opt->w;
-    size_t j, k, p = opt->n_params;
-    double gs = 0.0, curv, alpha = 0.5, target;
-    int bounded = 0, fallback = 0;
+    const bf_optim_work *w = &run->opt->w;
+    size_t j, p = run->opt->n_params;
+    double gs = 0.0, curv, alpha = 0.5;
     for (j = 0; j < p; j++) gs += w->g[j] * w->step[j];
     curv = run->cost_trial - run->cost - 2.0 * gs; /* phi(1) - phi(0) - phi'(0) */
     if (curv > 0.0 && gs < 0.0) alpha = fmin(0.5, fmax(0.1, -gs / curv));
-    target = alpha * scaled_length(w, p);
-    if (!(target > 0.0)) return lambda;
-    for (k = 0; k < 60; k++) {
-        double len;
-        (void)bf_optim_step(opt, lambda, 1.0, run->bound, &bounded, &fallback);
-        len = scaled_length(w, p);
-        if (!(len > target) || lambda >= BF_LAMBDA_MAX) break;
-        lambda = fmin(BF_LAMBDA_MAX, lambda * fmax(2.0, len / target));
-    }
-    return lambda;
+    return raise_lambda(run, lambda, alpha * scaled_length(w, p), 0);
+}
+
+/* The start radius (BRDFFIT_OPT_START_RADIUS): the policy's start lambda
+ * raised until the first step is no longer than the setting times the
+ * start point's length, both in the scaling D (Moré's initial trust
+ * region, MINPACK's factor) and over the parameters that are not 0: a
+ * parameter at 0 has no length to compare its step with (the step bound
+ * treats it so too). */
+static double start_lambda(lm_run *run, double lambda)
+{
+    const bf_optim_work *w = &run->opt->w;
+    double radius = run->opt->settings.start_radius, len = 0.0;
+    size_t j;
+    if (!(radius > 0.0)) return lambda;
+    for (j = 0; j < run->opt->n_params; j++)
+        if (!w->fixed[j]) len += w->d[j] * w->x[j] * w->x[j];
+    if (!(len > 0.0)) return lambda;
+    return raise_lambda(run, lambda, radius * sqrt(len), 1);
 }
 
 /* Step control (BRDFFIT_OPT_STEP_CONTROL), after a very successful step
@@ -297,6 +340,10 @@ static brdffit_status iterate(lm_run *run, brdffit_stop_reason *stop)
         *stop = BRDFFIT_STOP_STEP;
         return BRDFFIT_OK;
     }
+    if (opt->settings.cost_lookahead && gain_small(run)) {
+        *stop = BRDFFIT_STOP_COST;
+        return BRDFFIT_OK;
+    }
     run->iterations++;
     run->accepted = try_step(run);
 #ifdef BF_EXP_GROWB
@@ -348,6 +395,7 @@ static brdffit_status begin(lm_run *run, const double *x, double bound, char *wh
     st = bf_optim_eval(opt, opt->w.x, 1, &run->cost, opt->w.jtj, opt->w.g, what, size);
     if (st != BRDFFIT_OK) return st;
     bf_optim_update_scaling(opt, 1);
+    run->lambda = start_lambda(run, run->lambda);
     return history_push(run);
 }
 

@@ -27,12 +27,14 @@ typedef enum bf_form { BF_FORM_NONE = 0, BF_FORM_RESIDUALS = 1, BF_FORM_NORMAL =
 
 typedef struct bf_optim_settings {
     double gtol, xtol, ftol, diag_floor, step_bound, restart_bound;
+    double start_radius; /* > 0: the first step within it times |D^1/2 x0| (lm.c) */
     size_t max_iterations, max_evaluations;
     int marquardt;    /* 1: D = diag(J^T J), 0: D = d0 I */
     int sandwich;     /* covariance: 1 sandwich, 0 classic */
     int scale_memory; /* 1: D keeps the largest diag(J^T J) of the run, 0: the current one */
     int step_test;    /* 0: per parameter, 1: ||D^1/2 step|| against ||D^1/2 x|| */
     int step_control; /* 1: lambda also follows the step length (lm.c) */
+    int cost_lookahead; /* 1: a step promising at most ftol * cost ends the run untried */
 } bf_optim_settings;
 
 typedef struct bf_optim_result {

@@ -10,8 +10,8 @@
  * more in double precision. */
 #define BF_MAX_LIMIT 9007199254740992.0 /* 2^53 */
 
-static const bf_optim_settings default_settings = {1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0, 10000,
-                                                   24000, 1,     0,     1,     0,     0};
+static const bf_optim_settings default_settings = {
+    1e-13, 1e-10, 1e-15, 1e-12, 1e300, 1.0, 0.0, 10000, 24000, 1, 0, 1, 0, 0, 0};
 
 void bf_optim_default_settings(bf_optim_settings *s)
 {
@@ -85,6 +85,11 @@ brdffit_status brdffit_optimizer_set(brdffit_optimizer *opt, brdffit_optim_setti
     case BRDFFIT_OPT_STEP_CONTROL:
         return set_switch(opt, &s->step_control, value,
                           "step control must be 0 (the policy alone) or 1 (Moré's rules too)");
+    case BRDFFIT_OPT_START_RADIUS:
+        return set_tolerance(opt, &s->start_radius, value, d->start_radius);
+    case BRDFFIT_OPT_COST_LOOKAHEAD:
+        return set_switch(opt, &s->cost_lookahead, value,
+                          "cost lookahead must be 0 (the step taken) or 1 (the next step too)");
     }
     return bf_optim_fail(opt, BRDFFIT_E_INVALID_ARGUMENT, "unknown setting %d", (int)setting);
 }
@@ -110,6 +115,8 @@ brdffit_status brdffit_optimizer_get(const brdffit_optimizer *opt, brdffit_optim
     case BRDFFIT_OPT_SCALE_MEMORY: *value = s->scale_memory ? 1.0 : 0.0; return BRDFFIT_OK;
     case BRDFFIT_OPT_STEP_TEST: *value = s->step_test ? 1.0 : 0.0; return BRDFFIT_OK;
     case BRDFFIT_OPT_STEP_CONTROL: *value = s->step_control ? 1.0 : 0.0; return BRDFFIT_OK;
+    case BRDFFIT_OPT_START_RADIUS: *value = s->start_radius; return BRDFFIT_OK;
+    case BRDFFIT_OPT_COST_LOOKAHEAD: *value = s->cost_lookahead ? 1.0 : 0.0; return BRDFFIT_OK;
     }
     return BRDFFIT_E_INVALID_ARGUMENT;
 }

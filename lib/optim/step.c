@@ -22,48 +22,68 @@ int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x)
     return x[j] <= opt->w.lower[j] || x[j] >= opt->w.upper[j];
 }
 
-/* The remembered scaling is out of date: every free parameter's entry of
- * D exceeds its diag(J^T J) by more than BF_SCALE_RESET, so the problem's
- * scale as a whole has changed since (a run from a far start), not one
- * parameter's (one passing through zero). */
-static int scaling_stale(const bf_optim_work *w, size_t p)
+/* How stale the remembered scaling is: the smallest ratio of a free
+ * parameter's entry of D to its diag(J^T J) when every one exceeds
+ * BF_SCALE_RESET (the problem's scale as a whole has changed since, as on
+ * the way from a far start, not one parameter's, as one passing through
+ * zero), else 0. */
+static double staleness(const bf_optim_work *w, size_t p)
 {
     size_t j;
+    double least = HUGE_VAL;
     int any = 0;
     for (j = 0; j < p; j++) {
+        double a = w->jtj[j * p + j];
         if (w->fixed[j]) continue;
-        if (!(w->d[j] > BF_SCALE_RESET * w->jtj[j * p + j])) return 0;
+        if (!(w->d[j] > BF_SCALE_RESET * a)) return 0.0;
+        if (a > 0.0) least = fmin(least, w->d[j] / a);
         any = 1;
     }
-    return any;
+    return any ? least : 0.0;
+}
+
+/* Marquardt's D: diag(J^T J) at the current point, floored at DIAG_FLOOR
+ * times the largest its column had in the attempt; or with the scale
+ * memory its running maximum, which needs no floor. Each entry depends on
+ * its own column only, so rescaling a parameter scales its entry alone
+ * and the step does not depend on the parameters' units. When the memory
+ * is stale (staleness()) every entry is divided by the same factor, the
+ * least stale one's, so that the entries keep their ratios. */
+static void marquardt_scaling(brdffit_optimizer *opt, int set_d0)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t j, p = opt->n_params;
+    double stale = set_d0 || !opt->settings.scale_memory ? 0.0 : staleness(w, p);
+    for (j = 0; j < p; j++) {
+        double a = w->jtj[j * p + j];
+        if (!opt->settings.scale_memory)
+            w->d[j] = fmax(a, fmax(opt->settings.diag_floor * w->amax[j], BF_SCALE_ABS_FLOOR));
+        else if (set_d0)
+            w->d[j] = fmax(a, BF_SCALE_ABS_FLOOR);
+        else if (stale > 0.0)
+            w->d[j] = fmax(fmax(a, w->d[j] / stale), BF_SCALE_ABS_FLOOR);
+        else
+            w->d[j] = fmax(w->d[j], a);
+    }
 }
 
 void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
 {
     const bf_optim_work *w = &opt->w;
     size_t j, p = opt->n_params;
-    double dmax = 0.0, floor_value;
+    double dmax = 0.0;
     for (j = 0; j < p; j++) {
         double a = w->jtj[j * p + j];
         w->amax[j] = set_d0 ? a : fmax(w->amax[j], a);
         if (!w->fixed[j] && a > dmax) dmax = a;
     }
-    if (opt->settings.marquardt && opt->settings.scale_memory && !set_d0 && scaling_stale(w, p))
-        set_d0 = 1; /* start the memory again from here */
-    if (!opt->settings.marquardt) {
-        if (!set_d0) return;
-        dmax = fmax(dmax, BF_SCALE_ABS_FLOOR);
-        for (j = 0; j < p; j++) w->d[j] = dmax;
+    if (opt->settings.marquardt) {
+        marquardt_scaling(opt, set_d0);
         return;
     }
-    if (opt->settings.scale_memory && !set_d0)
-        for (j = 0; j < p; j++)
-            if (!w->fixed[j] && w->d[j] > dmax) dmax = w->d[j];
-    floor_value = fmax(opt->settings.diag_floor * dmax, BF_SCALE_ABS_FLOOR);
-    for (j = 0; j < p; j++) {
-        double dj = fmax(w->jtj[j * p + j], floor_value);
-        w->d[j] = opt->settings.scale_memory && !set_d0 ? fmax(w->d[j], dj) : dj;
-    }
+    if (!set_d0) return;
+    dmax = fmax(dmax, BF_SCALE_ABS_FLOOR);
+    for (j = 0; j < p; j++) w->d[j] = dmax;
 }
 
 /* Held at the start of a step: fixed, or on a bound with the descent

@@ -74,6 +74,27 @@ class GeometryTest(unittest.TestCase):
             np.testing.assert_array_equal(grid.axes[0], AXES[0])
 
 
+class OptionsTest(unittest.TestCase):
+    def test_objective_and_plausible_reach_the_fits(self):
+        """A batch's ``objective`` and ``plausible`` reach every fit; without
+        them the fits take the library's defaults (cube-root, 1)."""
+        truth, values = texel_map(2)
+        geometry = bd.Geometry(regular=AXES)
+        base = {"pipeline": "joint", "start": truth[0] * 1.2, "max_iterations": 1}
+        cost = {}
+        for objective in (None, "squares", "cube-root"):
+            options = dict(base) if objective is None else dict(base, objective=objective)
+            cost[objective] = bd.fit_texels_local(geometry, values, options=options).rows[0]["cost"]
+            with geometry.grid(values[0]) as grid:
+                with brdffit.Fit(grid, brdffit.Model.builtin("ashikhmin-shirley"),
+                                 **options) as fit:
+                    self.assertEqual(fit.run().error("cost"), cost[objective])
+        self.assertEqual(cost[None], cost["cube-root"])
+        self.assertNotEqual(cost["squares"], cost["cube-root"])
+        table = bd.fit_texels_local(geometry, values, options={"plausible": 0})
+        self.assertEqual(len(table.failed()), 0)
+
+
 class ClusterTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -127,8 +127,12 @@ class Recovery(unittest.TestCase):
                           start=self.truth * 1.2, max_iterations=1).run()
                 costs[objective] = off.error("cost")
         self.assertEqual(len(set(costs.values())), len(costs))
+        # the default minimises the cube root: the same cost at the same point
+        default = Fit(self.grid, self.builtin, pipeline="joint", start=self.truth * 1.2,
+                      max_iterations=1).run()
+        self.assertEqual(default.error("cost"), costs["cube-root"])
         fit = Fit(self.grid, self.builtin)
-        self.assertEqual(fit.objective, "squares")
+        self.assertEqual(fit.objective, "cube-root")
         fit.objective = 1
         self.assertEqual(fit.objective, "log")
         with self.assertRaises(ValueError):
@@ -260,6 +264,8 @@ class OptionsAndErrors(unittest.TestCase):
         self.assertEqual(fit.weighting, Weighting.DEFAULT)
         self.assertEqual(fit.clearcoat, 0.0)
         self.assertEqual(fit.threads, 1)
+        self.assertEqual(fit.objective, "cube-root")
+        self.assertEqual(fit.plausible, 1)
         self.assertEqual(fit.param_count, 7)
         fit.configure(pipeline="two-stage", cap=1.0, weighting=Weighting.COSINE,
                       clearcoat=0.05, max_iterations=17)

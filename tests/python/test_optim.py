@@ -102,6 +102,11 @@ class Failing(PyMarquardt):
         raise ZeroDivisionError("policy bug")
 
 
+class FailingOnAccept(PyMarquardt):
+    def accepted(self, rho, lam):
+        raise ZeroDivisionError("policy bug")
+
+
 def run_rosenbrock(policy):
     opt = Optimizer(2, residuals=rosenbrock, n_rows=2, damping=policy)
     x = opt.run([-1.2, 1.0])
@@ -255,8 +260,10 @@ class DampingTest(unittest.TestCase):
             np.testing.assert_array_equal(got.params, ref.params)
             np.testing.assert_array_equal(got.history()[1], ref.history()[1])
             np.testing.assert_allclose(got.params, truth, rtol=1e-6)
+        # the fit's first step is bounded (its start radius), so it need not
+        # be rejected: the policy fails on an accepted step
         fit = brdffit.Fit(grid, model, pipeline="joint")
-        fit.set_damping(Failing())
+        fit.set_damping(FailingOnAccept())
         fit.set_start({"ns": 5.0})
         with self.assertRaises(ZeroDivisionError):
             fit.run()

@@ -1037,3 +1037,54 @@ brdffit_status optim_normal_adapter_fn(const double *x, double *cost, double *jt
     }
     return BRDFFIT_OK;
 }
+
+/* --- changed coordinates ---------------------------------------------------------- */
+
+void optim_changed_init(optim_changed *c, brdffit_residual_fn fn, void *user, size_t n_rows,
+                        size_t n_params)
+{
+    size_t j;
+    memset(c, 0, sizeof *c);
+    c->fn = fn;
+    c->user = user;
+    c->n_rows = n_rows;
+    c->n_params = n_params;
+    for (j = 0; j < n_params; j++) c->scale[j] = 1.0;
+}
+
+void optim_changed_mixed(optim_changed *c, double ref)
+{
+    c->scale[0] = (ref != 0.0 ? fabs(ref) : 1.0) / 1e6;
+}
+
+void optim_changed_through_zero(optim_changed *c, const double *from, const double *to)
+{
+    size_t j;
+    for (j = 0; j < c->n_params; j++) c->shift[j] = 0.5 * (from[j] + to[j]);
+}
+
+void optim_changed_from_problem(const optim_changed *c, const double *b, double *x)
+{
+    size_t j;
+    for (j = 0; j < c->n_params; j++) x[j] = (b[j] - c->shift[j]) / c->scale[j];
+}
+
+void optim_changed_to_problem(const optim_changed *c, const double *x, double *b)
+{
+    size_t j;
+    for (j = 0; j < c->n_params; j++) b[j] = c->scale[j] * x[j] + c->shift[j];
+}
+
+brdffit_status optim_changed_fn(const double *x, double *r, double *jac, void *user)
+{
+    const optim_changed *c = user;
+    double b[OPTIM_MAX_PARAMS];
+    size_t i, j, p = c->n_params;
+    brdffit_status st;
+    optim_changed_to_problem(c, x, b);
+    st = c->fn(b, r, jac, c->user);
+    if (st != BRDFFIT_OK || jac == NULL) return st;
+    for (i = 0; i < c->n_rows; i++)
+        for (j = 0; j < p; j++) jac[i * p + j] *= c->scale[j];
+    return BRDFFIT_OK;
+}

@@ -57,6 +57,32 @@ void optim_normal_adapter_init(optim_normal_adapter *a, brdffit_residual_fn fn, 
 brdffit_status optim_normal_adapter_fn(const double *x, double *cost, double *jtj, double *jtr,
                                        void *user);
 
+/* A residual problem seen in changed coordinates x: the problem's own
+ * parameters are b_j = scale_j x_j + shift_j, so its Jacobian's columns
+ * are multiplied by scale_j (in place, so any number of rows works). */
+typedef struct optim_changed {
+    brdffit_residual_fn fn;
+    void *user;
+    size_t n_rows, n_params;
+    double scale[OPTIM_MAX_PARAMS], shift[OPTIM_MAX_PARAMS];
+} optim_changed;
+
+/* The identity change of fn's n_params parameters. */
+void optim_changed_init(optim_changed *c, brdffit_residual_fn fn, void *user, size_t n_rows,
+                        size_t n_params);
+/* Mixed magnitudes: the first parameter in units in which ref (its
+ * certified value, or its start) is 1e6; ref 0 counts as 1. */
+void optim_changed_mixed(optim_changed *c, double ref);
+/* Through zero: every parameter shifted by the midpoint of from and to
+ * (a start and a solution), so that each changes sign on the way. */
+void optim_changed_through_zero(optim_changed *c, const double *from, const double *to);
+/* x from b, and b from x. */
+void optim_changed_from_problem(const optim_changed *c, const double *b, double *x);
+void optim_changed_to_problem(const optim_changed *c, const double *x, double *b);
+/* The residual callback in the changed coordinates; user is the
+ * optim_changed. */
+brdffit_status optim_changed_fn(const double *x, double *r, double *jac, void *user);
+
 /* A named problem with its standard start; for the MGH set also its
  * number in the paper and its minima (sums of squares; an unused entry
  * is -1). */

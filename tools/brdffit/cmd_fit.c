@@ -18,9 +18,11 @@ static const char fit_help[] =
     "\n"
     "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
     "  --pipeline P          auto (default: global search, no start values), joint\n"
-    "                        or two-stage (the thesis's method, from start values)\n"
-    "  --objective O         squares (default: the thesis's weighted squares), log,\n"
-    "                        cube-root or relative (docs/fitting.md)\n"
+    "                        or two-stage (the thesis's method with --objective\n"
+    "                        squares, from start values)\n"
+    "  --objective O         cube-root (default: the best rendered match), log,\n"
+    "                        relative or squares (the thesis's weighted squares;\n"
+    "                        docs/fitting.md)\n"
     "  --start LIST          start values, NAME=VALUE (all channels) or\n"
     "                        NAME=V1:V2:V3 (one per channel), comma-separated\n"
     "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
@@ -697,7 +699,7 @@ int cli_cmd_fit(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.model_name = "ashikhmin-shirley";
     o.pipeline = BRDFFIT_PIPELINE_AUTO;
-    o.objective = BRDFFIT_OBJECTIVE_SQUARES;
+    o.objective = CLI_DEFAULT_OBJECTIVE;
     o.cap = BRDFFIT_DEFAULT_CAP;
     o.weighting = BRDFFIT_WEIGHT_DEFAULT;
     o.gain = 3.0;

@@ -20,7 +20,7 @@ static const char map_help[] =
     "                        default: standard output\n"
     "  --model NAME          model to fit (brdffit models); default ashikhmin-shirley\n"
     "  --pipeline P          auto (default), joint or two-stage\n"
-    "  --objective O         squares (default), log, cube-root or relative\n"
+    "  --objective O         cube-root (default), log, relative or squares\n"
     "  --start LIST          start values, NAME=VALUE or NAME=V1:V2:V3, comma-separated\n"
     "  --cap DEG             angle cap in degrees, (0, 90]; default 75\n"
     "  --no-solid-angle      do not weight residuals by the solid angle of the cell\n"
@@ -311,8 +311,16 @@ static int fit_map(const char *path, const map_opts *o, map_data *m, brdffit_mod
 
 int cli_cmd_map(int argc, char **argv)
 {
-    map_opts o = {"ashikhmin-shirley", NULL, NULL, BRDFFIT_PIPELINE_AUTO,
-                  BRDFFIT_OBJECTIVE_SQUARES, BRDFFIT_DEFAULT_CAP, 0.0, BRDFFIT_WEIGHT_DEFAULT, 1, 0};
+    map_opts o = {"ashikhmin-shirley",
+                  NULL,
+                  NULL,
+                  BRDFFIT_PIPELINE_AUTO,
+                  CLI_DEFAULT_OBJECTIVE,
+                  BRDFFIT_DEFAULT_CAP,
+                  0.0,
+                  BRDFFIT_WEIGHT_DEFAULT,
+                  1,
+                  0};
     char msg[CLI_MSG_SIZE];
     brdffit_model *model = NULL;
     brdffit_error err;

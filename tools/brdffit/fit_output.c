@@ -165,7 +165,7 @@ void fit_summary(cli_buf *b, const fit_result *r)
                    r->n_active);
     cli_buf_printf(b, "  %-12s%s, pipeline %s", "model", brdffit_model_name(r->model),
                    cli_pipeline_name(r->pipeline));
-    if (r->objective != BRDFFIT_OBJECTIVE_SQUARES)
+    if (r->objective != CLI_DEFAULT_OBJECTIVE)
         cli_buf_printf(b, ", objective %s", cli_objective_name(r->objective));
     if (r->covariance != 0) cli_buf_printf(b, ", %s errors", cli_covariance_name(r->covariance));
     cli_buf_puts(b, "\n");

@@ -91,6 +91,9 @@ unsigned char *fit_holds_held(const fit_holds *h, const brdffit_model *model);
 /* "nielsen", "marquardt" or "thesis"; 0 for another name. */
 int cli_parse_damping(const char *name, const brdffit_damping **out);
 
+/* The objective of a fit without --objective: the library's default. */
+#define CLI_DEFAULT_OBJECTIVE BRDFFIT_OBJECTIVE_CUBE_ROOT
+
 /* The objective's name on the command line and in JSON ("squares", "log",
  * "cube-root", "relative"), and back; 0 for an unknown name. */
 const char *cli_objective_name(brdffit_objective objective);

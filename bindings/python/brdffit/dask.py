@@ -299,8 +299,8 @@ class BatchJob:
 
 
 #: The options a batch passes to every Fit (``damping``: a built-in name).
-FIT_OPTIONS = ("pipeline", "cap", "weighting", "clearcoat", "threads", "max_iterations",
-               "start", "fixed", "damping")
+FIT_OPTIONS = ("pipeline", "objective", "cap", "weighting", "clearcoat", "threads",
+               "max_iterations", "plausible", "start", "fixed", "damping")
 
 
 def _options(options: Optional[Dict[str, Any]]) -> Dict[str, Any]:

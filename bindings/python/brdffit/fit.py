@@ -77,8 +77,10 @@ class Fit(Handle):
     - ``clearcoat``: clear-coat R0 in [0, 1), 0 = off;
     - ``threads``: threads per pass over the samples, 1 .. 64;
     - ``max_iterations``: iteration limit of each LM run;
-    - ``objective``: what the fit minimises, ``"squares"`` (default),
-      ``"log"``, ``"cube-root"`` or ``"relative"`` (docs/fitting.md);
+    - ``objective``: what the fit minimises, ``"cube-root"`` (default: the
+      fits that render closest to the measurement), ``"log"``,
+      ``"relative"`` or ``"squares"`` (the thesis's weighted squares;
+      docs/fitting.md);
     - ``plausible``: 0, 1 (default: the diffuse colour <= 1 and each
       built-in specular lobe's directional albedo <= 1, from a table) or 2
       (every term's directional albedo <= 1 by the integral: slower); True

@@ -125,10 +125,13 @@ class Optimizer(Handle):
     gtol = _setting_property("gtol", "Gradient tolerance (cosine test); default 1e-13.")
     xtol = _setting_property("xtol", "Relative step tolerance; default 1e-10.")
     ftol = _setting_property("ftol", "Relative cost-reduction tolerance; default 1e-15.")
-    max_iterations = _setting_property("max_iterations", "Iteration limit; default 5000.", int)
-    max_evaluations = _setting_property("max_evaluations", "Evaluation limit; default 12000.",
+    max_iterations = _setting_property("max_iterations", "Iteration limit; default 10000.", int)
+    max_evaluations = _setting_property("max_evaluations", "Evaluation limit; default 24000.",
                                         int)
-    diag_floor = _setting_property("diag_floor", "Floor of Marquardt's scaling; default 1e-15.")
+    diag_floor = _setting_property(
+        "diag_floor",
+        "Floor of Marquardt's scaling without the scale memory, relative to the "
+        "largest value of the entry's own column; default 1e-12.")
 
     @property
     def scaling(self) -> str:
