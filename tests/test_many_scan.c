@@ -3,8 +3,8 @@
  * point per grid point of auto's scan and keeps a column that no shape
  * parameter moves once; and at every grid point an item's VARPRO sums from
  * the basis equal a VARPRO pass's to rounding (1e-12 of the Cauchy-Schwarz
- * scale of each sum; 1e-6 where the fused loop takes the pass, reading
- * single-precision inputs), for the lobe form (one scan dimension), the
+ * scale of each sum; 1e-6 where the pass reads the Ashikhmin-Shirley lobe
+ * geometry in single precision), for the lobe form (one scan dimension), the
  * microfacet form, Ashikhmin-Shirley's shader form (two dimensions), a
  * clear coat and the cube-root objective's weights; the point's cheap
  * plausibility bounds are those computed there, and the basis handed to
@@ -118,10 +118,13 @@ static void check_point_basis(const bf_stage *st, size_t flat, size_t L)
     }
 }
 
-/* Every grid point: the basis's sums against a VARPRO pass's, within tol
- * (1e-6: the fused loop, which takes these passes, reads single-precision
- * weights, values and lobe geometry, the batch's basis and weights are
- * double). Returns the number of points. */
+/* Every grid point: the basis's sums against a VARPRO pass's, within tol.
+ * The batch weighs and rounds the values as the fused loop, which takes
+ * these passes, does (s->batch.single), so the sums agree to rounding
+ * (1e-12) but for the Ashikhmin-Shirley lobe geometry g, which the loop
+ * reads in single precision and the batch's basis, the kernel's, holds in
+ * double (1e-6, the loop's bound against double inputs: test_fused.c).
+ * Returns the number of points. */
 static size_t check_points(setup *s, double tol)
 {
     bf_stage *st = &s->st;
@@ -134,6 +137,7 @@ static size_t check_points(setup *s, double tol)
     assert_non_null(upper);
     assert_int_equal(P, s->batch.n_points);
     assert_int_equal(n_acc, NC * stride);
+    assert_true(s->batch.single);
     for (j = 0; j < P; j++) {
         bf_scan_grid_point(&sc, j, u);
         bf_scan_set_point(st, &sc, u);
@@ -205,7 +209,7 @@ static void test_microfacet_and_coat(void **state)
     setup s;
     (void)state;
     set_up(&s, "ggx", 0.04, BRDFFIT_OBJECTIVE_SQUARES);
-    check_points(&s, 1e-6);
+    check_points(&s, 1e-12); /* the loop reads the dot products in double */
     tear_down(&s);
 }
 

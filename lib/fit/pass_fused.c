@@ -218,12 +218,17 @@ static int g_kind(const bf_problem *pb)
     return lobe.g == BF_LOBE_G_AS ? G_READ : lobe.g == BF_LOBE_G_ONE ? G_ONE : G_RV;
 }
 
-int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
+int bf_fused_serves_any(const bf_problem *pb, bf_pass_kind kind)
 {
     return pb->lobe > 0 && kind != BF_PASS_METRICS && kind != BF_PASS_SANDWICH &&
-           pb->plan->base != NULL && bf_grid_fscale(pb->grid) > 0.0 &&
+           pb->plan->base != NULL &&
            (pb->objective == BRDFFIT_OBJECTIVE_SQUARES || kind == BF_PASS_VARPRO) &&
            (pb->nc == 1 || pb->nc == 3) && form_of(pb, lobes_of(pb), g_kind(pb)) >= 0;
+}
+
+int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind)
+{
+    return bf_fused_serves_any(pb, kind) && bf_grid_fscale(pb->grid) > 0.0;
 }
 
 int bf_fused_in_place(const bf_problem *pb, bf_pass_kind kind)

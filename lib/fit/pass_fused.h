@@ -37,6 +37,12 @@ void bf_fused_prepare(bf_problem *pb);
  * a kernel and no missing values, come first). */
 int bf_fused_serves(const bf_problem *pb, bf_pass_kind kind);
 
+/* bf_fused_serves() but for the values: whether the fused loop takes the
+ * problem's passes of this kind whenever the grid's values fit single
+ * precision (a batch's shared state, made before any item's values, then
+ * weighs as the loop does: many_scan.c). */
+int bf_fused_serves_any(const bf_problem *pb, bf_pass_kind kind);
+
 /* Whether the fused loop reads the measured values in place (channel
  * values, no clear-coat compensation, a grid or view with single-precision
  * values): then the route's block hook takes the pass and the driver loads
@@ -55,8 +61,8 @@ int bf_fused_block(const bf_problem *pb, bf_pass_kind kind, const double *params
 /* Accumulate one chunk of n samples whose measured values the driver
  * loaded into sc->meas (chunk sc->chunk from sample sc->first); works in
  * sc->vals. */
-void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params,
-                    bf_scratch *sc, size_t n);
+void bf_fused_chunk(const bf_problem *pb, bf_pass_kind kind, const double *params, bf_scratch *sc,
+                    size_t n);
 
 /* Doubles of the largest reduced accumulator (NORMAL, two microfacet
  * lobes, 3 channels: 1 + 7 x 7 + 3 x 7). */
