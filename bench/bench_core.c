@@ -448,7 +448,9 @@ static int run_case(bh_output *out, const brdffit_grid *grid, const char *name, 
     } else {
         table_case(out, &cc, &f);
         json_case(out, &cc, &f);
-        if (!isnan(f.check) && !(f.check <= 1e-9))
+        /* the fused loop reads its inputs in single precision
+         * (docs/benchmarks.md): agreement to 1e-6, not to rounding */
+        if (!isnan(f.check) && !(f.check <= 1e-6))
             bh_fail(out, "%s at cap %.0f: naive and fused normal equations differ by %.3g", name,
                     cap / DEG, f.check);
         if (strcmp(name, "ashikhmin-shirley") == 0 && cap > 89.0 * DEG) {

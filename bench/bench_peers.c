@@ -454,11 +454,14 @@ typedef struct outcome {
 } outcome;
 
 /* |a - b| relative to the larger, costs below 1e-12 of the start cost
- * counting as zero (the noise-free P1 ends at rounding level). */
+ * counting as zero (the noise-free P1 ends there: at rounding level for
+ * the peers, near 1e-17 of the start cost for libbrdffit, whose fused
+ * passes read single-precision inputs). */
 static double relative_diff(double a, double b, double start_cost)
 {
-    double scale = fmax(fmax(fabs(a), fabs(b)), 1e-12 * start_cost);
-    return fabs(a - b) / scale;
+    const double zero = 1e-12 * start_cost;
+    if (fabs(a) <= zero && fabs(b) <= zero) return 0.0;
+    return fabs(a - b) / fmax(fmax(fabs(a), fabs(b)), zero);
 }
 
 static void table_row(bh_output *out, bd_dataset d, const char *name, const outcome *o,

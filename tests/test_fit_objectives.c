@@ -232,7 +232,10 @@ static void check_gradient(const truth *t, int objective)
     data_init(&d, grid, objective);
     for (i = 0; i < n; i++) p[i] = truth_p[i] * (i % 2 ? 0.7 : 1.3);
     normal_pass(fit, d.delta, p, acc, n);
-    assert_close(acc[0] / objective_cost(&d, model, objective, p), 1.0, 1e-10);
+    /* the squares' passes take the fused loop, whose inputs are single
+     * precision (lib/fit/pass_fused.c): 1e-7, not rounding */
+    assert_close(acc[0] / objective_cost(&d, model, objective, p), 1.0,
+                 objective == BRDFFIT_OBJECTIVE_SQUARES ? 1e-7 : 1e-10);
     for (i = 0; i < n; i++) {
         double q[MAXV], h = 1e-6 * fabs(p[i]), num;
         memcpy(q, p, n * sizeof *q);

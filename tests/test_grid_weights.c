@@ -323,6 +323,42 @@ static void test_scattered_zero_weights(void **state)
     brdffit_grid_destroy(g);
 }
 
+/* The plan's base form (bf_weight_plan_base()): for the weightings with
+ * the solid angle, every chunk in one or two pieces of consecutive
+ * samples whose base weight times the piece's factor is the chunk's
+ * weight to single precision (relative 2^-24; 0 where it is 0); none for
+ * the others. */
+static void check_base(const bf_weight_plan *plan, unsigned flags)
+{
+    size_t c, t, k;
+    double chunk[BF_CHUNK];
+    bf_weight_piece piece[2];
+    int has = flags == BRDFFIT_WEIGHT_DEFAULT || flags == BRDFFIT_WEIGHT_SOLID_ANGLE;
+    assert_int_equal(plan->base != NULL, has);
+    for (c = 0; c < plan->n_chunks; c++) {
+        size_t first = 0, count = 0, np = bf_weight_plan_base(plan, c, piece), at;
+        bf_weight_plan_chunk(plan, c, &first, &count, chunk);
+        if (!has) {
+            assert_int_equal(np, 0);
+            continue;
+        }
+        assert_true(np == 1 || np == 2);
+        for (k = 0, at = first; k < np; at += piece[k].count, k++) {
+            assert_int_equal(piece[k].first, at);
+            assert_true(piece[k].count > 0 && isfinite(piece[k].factor));
+            for (t = 0; t < piece[k].count; t++) {
+                double w = chunk[at - first + t], bw = plan->base[at + t] * piece[k].factor;
+                if (!(fabs(bw - w) <= 0x1p-24 * w)) {
+                    print_error("chunk %zu sample %zu: base %.17g x %.17g = %.17g, weight %.17g\n",
+                                c, at + t, (double)plan->base[at + t], piece[k].factor, bw, w);
+                    fail();
+                }
+            }
+        }
+        assert_int_equal(at, first + count);
+    }
+}
+
 /* Weights are finite for every grid the loaders accept: solid angles or
  * given weights so small that their sum is subnormal, or so large that it
  * overflows, are scaled before they are summed. */
@@ -339,6 +375,16 @@ static void expect_normalised(const brdffit_grid *g, const double *want, double 
         sum += w[s];
     }
     assert_close(sum, 1.0, 1e-15);
+    /* the base form too, where the plan has one (a factor in the double
+     * range) */
+    {
+        bf_weight_plan plan;
+        assert_int_equal(
+            bf_weight_plan_init(&plan, g, DEG(90.0), BRDFFIT_WEIGHT_SOLID_ANGLE, &g->alloc, NULL),
+            BRDFFIT_OK);
+        if (plan.base != NULL) check_base(&plan, BRDFFIT_WEIGHT_SOLID_ANGLE);
+        bf_weight_plan_free(&plan, &g->alloc);
+    }
 }
 
 static void test_tiny_and_huge_weights(void **state)
@@ -406,6 +452,7 @@ static void check_plan(const brdffit_grid *g, double cap, unsigned flags)
         if (seen[t]) continue;
         assert_true(w[t] == 0.0); /* everything outside the chunks is beyond the cap */
     }
+    check_base(&plan, flags);
     bf_weight_plan_free(&plan, &ca.hook);
     assert_int_equal(ca.live, 0);
     free(w);
@@ -414,7 +461,9 @@ static void check_plan(const brdffit_grid *g, double cap, unsigned flags)
 
 static void test_weight_plan(void **state)
 {
-    static const double caps[] = {75.0, 90.0, 10.0, 2.5, 52.0};
+    /* 75: the last active view row's cells cut at the cap; 76: cut between
+     * axis values */
+    static const double caps[] = {75.0, 90.0, 10.0, 2.5, 52.0, 76.0};
     fx_axes a;
     brdffit_grid *g, *s1, *s2;
     size_t k;

@@ -70,11 +70,12 @@ static void copy_options(brdffit_fit *dst, const brdffit_fit *src)
 static brdffit_status worker_init(many_worker *w, const brdffit_fit *proto, size_t per_item)
 {
     const brdffit_allocator *a = &proto->alloc;
-    /* doubles first, then the mask bytes: one block; zero until an item's
-     * values are set (the batch's shared state reads none) */
-    w->values = bf_calloc(a, per_item, sizeof(double) + 1);
+    /* the view's values (grid_internal.h), then the mask bytes: one block;
+     * zero until an item's values are set (the batch's shared state reads
+     * none) */
+    w->values = bf_calloc(a, per_item, BF_GRID_VIEW_BYTES + 1);
     if (w->values == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
-    w->mask = (unsigned char *)(w->values + per_item);
+    w->mask = (unsigned char *)w->values + per_item * BF_GRID_VIEW_BYTES;
     bf_grid_view_init(&w->view, proto->grid, w->values);
     BF_RETURN_IF_ERROR(brdffit_fit_create(&w->fit, &w->view, proto->model, a, NULL));
     copy_options(w->fit, proto);

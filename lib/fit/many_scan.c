@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/pass_fused.h"
 #include "fit/plausible.h"
 #include "fit/run.h"
 #include "fit/scan.h"
@@ -54,6 +55,23 @@ static int tabulable(const bf_stage *st, bf_basis_form *form)
     return 1;
 }
 
+/* Chunk ci's weights as the stage's VARPRO pass reads them: the plan's
+ * (cached) or, when the fused loop takes the pass, its base weights times
+ * their factors (the loop's products, bf_weight_plan_base()). */
+static void chunk_weights(const bf_batch *b, const bf_weight_plan *plan, size_t ci, size_t *first,
+                          size_t *n, double *w)
+{
+    bf_weight_piece piece[2];
+    size_t np, k, i;
+    bf_weight_plan_chunk(plan, ci, first, n, w);
+    if (!b->single) return;
+    np = bf_weight_plan_base(plan, ci, piece);
+    for (k = 0; k < np; k++)
+        for (i = 0; i < piece[k].count; i++)
+            w[piece[k].first - *first + i] =
+                (double)plan->base[piece[k].first + i] * piece[k].factor;
+}
+
 /* The basis at every grid point into cols (column-major, n_rows each,
  * point j's B_q at column j * L + q), the weights and the coat factors;
  * usable[j] 0 where a value is not finite. */
@@ -71,7 +89,7 @@ static void fill_columns(bf_batch *b, bf_stage *st, const bf_scan *sc, size_t n_
         for (ci = 0; ci < pb->plan->n_chunks; ci++) {
             brdffit_batch geo;
             bf_basis basis;
-            bf_weight_plan_chunk(pb->plan, ci, &first, &n, w);
+            chunk_weights(b, pb->plan, ci, &first, &n, w);
             bf_grid_batch(pb->grid, first, n, &geo);
             bf_kernel_basis(pb->kernel, &geo, 0, n, shape, &basis);
             for (i = 0; i < n; i++) {
@@ -156,6 +174,7 @@ static brdffit_status make_table(bf_batch *b, bf_stage *st, const brdffit_alloca
     b->nc = st->pb.nc;
     b->L = form.n_linear;
     b->n_rows = st->pb.plan->n_chunks * BF_CHUNK;
+    b->single = bf_fused_serves_any(&st->pb, BF_PASS_VARPRO);
     if (!bf_mul_size(P * b->L, b->n_rows, &bytes) || !bf_mul_size(bytes, sizeof(double), &bytes) ||
         bytes > BF_BATCH_SCAN_MAX) {
         b->n_points = 0;
@@ -259,11 +278,15 @@ static void block_product(const bf_batch *b, const double *y, size_t c, double *
 }
 
 /* The item's weighted values W R of every channel over the table's rows,
- * R^T W R, and (W R)^T B for every kept column, into fit->batch_work. */
+ * R^T W R, and (W R)^T B for every kept column, into fit->batch_work. R is
+ * the pass's: the value times 1 / the coat's divisor, rounded to single
+ * precision in the grid's scaled units when the fused loop reads it (the
+ * same bits as its input; exact back in the grid's units). */
 static void item_products(const bf_batch *b, const brdffit_fit *fit, const bf_problem *pb)
 {
     double *y = fit->batch_work, *prod = y + b->nc * b->n_rows, *rr = prod + b->nc * b->n_cols;
     double w[BF_CHUNK];
+    const double scale = bf_grid_fscale(fit->grid), unit = b->single ? 1.0 / scale : 1.0;
     size_t m, ci, i, c, first, n;
     for (m = 0; m < b->nc; m++) {
         const double *v = bf_grid_values(fit->grid, m);
@@ -272,8 +295,8 @@ static void item_products(const bf_batch *b, const brdffit_fit *fit, const bf_pr
         for (ci = 0; ci < pb->plan->n_chunks; ci++) {
             bf_weight_plan_chunk(pb->plan, ci, &first, &n, w);
             for (i = 0; i < n; i++) {
-                /* the pass's R: the value times 1 / the coat's divisor */
                 double r = v[first + i] * b->coat[ci * BF_CHUNK + i];
+                if (b->single) r = (double)(float)(r * scale) * unit;
                 ym[ci * BF_CHUNK + i] = b->w2[ci * BF_CHUNK + i] * r;
                 sum += ym[ci * BF_CHUNK + i] * r;
             }
@@ -321,6 +344,9 @@ int bf_batch_scan_sums(bf_stage *st, size_t flat)
     const double *prod, *rr, *G;
     size_t L, stride, m, q, r;
     if (!serves(st, flat) || !b->usable[flat] || bf_grid_has_missing(fit->grid)) return 0;
+    /* values out of single precision's reach: the pass takes the double
+     * route, with the plan's own weights */
+    if (b->single && !(bf_grid_fscale(fit->grid) > 0.0)) return 0;
     if (!st->run->batch_ready) {
         item_products(b, fit, &st->pb);
         st->run->batch_ready = 1;

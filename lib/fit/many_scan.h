@@ -18,8 +18,10 @@
  *   stored and multiplied once.
  *
  * The sums equal a pass's up to the order of summation (the basis values
- * are the kernel's, the same bits as the passes'): the scan's costs agree
- * with a single fit's to rounding, and an item's result is the single
+ * are the kernel's, the same bits as the passes'; the weights and values
+ * are those the pass reads, in single precision where the fused loop
+ * takes it, pass_fused.h): the scan's costs agree with a single fit's to
+ * rounding, and an item's result is the single
  * fit's unless two scan points' costs lie within that rounding of each
  * other (docs/fitting.md, Many fits over one geometry). An item with a
  * missing value, a grid point whose basis is not finite and every other
@@ -50,6 +52,10 @@ typedef struct bf_batch {
     size_t *col;           /* n_points * L: the column of B_q at point j */
     size_t stride;         /* n_cols rounded up to BF_BATCH_COLS */
     double *basis;         /* n_rows * stride, row-major: B, unweighted (padding 0) */
+    int single;            /* the stage's VARPRO passes take the fused loop (pass_fused.h):
+                            * w2 from the plan's single-precision base weights, an
+                            * item's values rounded to single precision as the loop
+                            * reads them */
     double *w2;            /* n_rows: w^2 of the stage's plan */
     double *coat;          /* n_rows: 1 / the clear coat's divisor, 1 without a coat */
     double *gram;          /* n_points * L * L: B^T W B */

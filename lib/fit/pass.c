@@ -199,6 +199,7 @@ static brdffit_status run_chunk(worker *wk, size_t ci)
     if (wk->kind == BF_PASS_METRICS) bf_weight_plan_chunk(pb->plan_sa, ci, &first, &n, sc->wsa);
     bf_grid_batch(pb->grid, first, n, &batch);
     sc->first = first;
+    sc->chunk = ci;
     if (reads_measured(wk)) load_measured(pb, &batch, first, sc);
     return wk->route->chunk(pb, wk->kind, wk->params, sc, &batch, &wk->err);
 }
@@ -208,6 +209,9 @@ static void worker_task(void *arg, size_t task)
     worker *wk = (worker *)arg + task;
     size_t ci;
     wk->status = BRDFFIT_OK;
+    if (wk->route->block != NULL &&
+        wk->route->block(wk->pb, wk->kind, wk->params, &wk->sc, wk->chunk_begin, wk->chunk_end))
+        return;
     for (ci = wk->chunk_begin; ci < wk->chunk_end; ci++) {
         wk->status = run_chunk(wk, ci);
         if (wk->status != BRDFFIT_OK) break;

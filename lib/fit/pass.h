@@ -74,11 +74,15 @@ typedef enum bf_pass_kind {
 #define BF_MAX_THREADS 64
 
 /* Versions of the fused loop (pass_fused.h): the plain C loop, then the
- * vector ones for the baseline instruction set, AVX2 and AVX-512. */
+ * vector ones for the baseline instruction set, AVX2 and AVX-512; the
+ * last two with fused multiply-add, as the plain C loop with fma() of
+ * math.h (BF_ISA_PLAIN_FMA, their reference in the tests; slow where the
+ * CPU has no FMA). */
 #define BF_ISA_PLAIN 0u
 #define BF_ISA_BASE 1u
 #define BF_ISA_AVX2 2u
 #define BF_ISA_AVX512 3u
+#define BF_ISA_PLAIN_FMA 4u
 
 struct bf_route;
 

@@ -351,6 +351,11 @@ static void basis_finish(const bf_problem *pb, bf_pass_kind kind, const double *
 }
 
 /* METRICS is left to the generic route. */
-const bf_route bf_route_basis = {
-    (1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) | (1u << BF_PASS_VARPRO),
-    basis_serves, basis_acc_size, basis_scratch_size, basis_chunk, basis_finish};
+const bf_route bf_route_basis = {(1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL) |
+                                     (1u << BF_PASS_VARPRO),
+                                 basis_serves,
+                                 basis_acc_size,
+                                 basis_scratch_size,
+                                 basis_chunk,
+                                 basis_finish,
+                                 bf_fused_block};

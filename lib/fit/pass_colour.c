@@ -282,4 +282,5 @@ const bf_route bf_route_colour = {(1u << BF_PASS_SHAPE) | (1u << BF_PASS_COLOUR_
                                   colour_acc_size,
                                   colour_scratch_size,
                                   colour_chunk,
-                                  colour_finish};
+                                  colour_finish,
+                                  NULL};

@@ -436,4 +436,5 @@ const bf_route bf_route_generic = {(1u << BF_PASS_COST) | (1u << BF_PASS_NORMAL)
                                    bf_pass_acc_size,
                                    generic_scratch_size,
                                    generic_chunk,
-                                   generic_finish};
+                                   generic_finish,
+                                   NULL};

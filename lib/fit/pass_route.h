@@ -19,6 +19,7 @@ typedef struct bf_scratch {
     double *own;               /* the route's scratch_size() doubles */
     double *acc;               /* the thread's accumulator, acc_size() doubles */
     size_t first;              /* the chunk's first sample */
+    size_t chunk;              /* the chunk's index in the weight plan */
 } bf_scratch;
 
 typedef struct bf_route {
@@ -36,6 +37,12 @@ typedef struct bf_route {
     /* turn the summed accumulators into the layout of pass.h */
     void (*finish)(const bf_problem *pb, bf_pass_kind kind, const double *params,
                    const double *part, double *acc);
+    /* optional (NULL: none): accumulate chunks [c0, c1) of the plan at
+     * once, the driver loading neither weights nor measured values;
+     * returns 0, having done nothing, when it does not take the pass (the
+     * driver then hands it the chunks one by one) */
+    int (*block)(const bf_problem *pb, bf_pass_kind kind, const double *params, bf_scratch *sc,
+                 size_t c0, size_t c1);
 } bf_route;
 
 extern const bf_route bf_route_generic; /* pass_generic.c */

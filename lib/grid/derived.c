@@ -21,6 +21,34 @@ const double *bf_grid_values(const brdffit_grid *g, size_t c)
     return g->values + c * g->n_samples;
 }
 
+/* Scale the values by a power of two so that the largest |value| lies in
+ * [0.5, 1), then round them to single precision: within the float range
+ * whatever the data's units (values below 2^-150 of the largest become 0). */
+void bf_grid_store_float_values(brdffit_grid *g)
+{
+    size_t v, n = g->n_samples * g->n_channels;
+    double top = 0.0;
+    int e;
+    for (v = 0; v < n; v++) top = fmax(top, fabs(g->values[v]));
+    g->fscale = 1.0;
+    if (top > 0.0) {
+        (void)frexp(top, &e); /* top = f 2^e, f in [0.5, 1) */
+        g->fscale = e >= -1000 && e <= 1000 ? ldexp(1.0, -e) : 0.0;
+    }
+    if (g->fvalues == NULL) return;
+    for (v = 0; v < n; v++) g->fvalues[v] = (float)(g->values[v] * g->fscale);
+}
+
+const float *bf_grid_fvalues(const brdffit_grid *g, size_t c)
+{
+    return g->fvalues == NULL ? NULL : g->fvalues + c * g->n_samples;
+}
+
+double bf_grid_fscale(const brdffit_grid *g)
+{
+    return g->fscale;
+}
+
 const bf_geometry *bf_grid_geometry(const brdffit_grid *g)
 {
     return &g->geo;
@@ -166,7 +194,9 @@ static void *copy_block(const brdffit_allocator *a, const void *src, size_t byte
 static brdffit_status copy_shape(brdffit_grid *g, const brdffit_grid *src, brdffit_error *err)
 {
     size_t n = src->n_samples;
-    memcpy(g->geo.block, src->geo.block, n * BF_GEOMETRY_ARRAYS * sizeof(double));
+    memcpy(g->geo.block, src->geo.block, bf_geometry_bytes(n));
+    g->geo.w_norm[0] = src->geo.w_norm[0];
+    g->geo.w_norm[1] = src->geo.w_norm[1];
     if (src->kind == BRDFFIT_GRID_REGULAR) {
         brdffit_axes axes = {src->axis[0],   src->n_axis[0], src->axis[1],
                              src->n_axis[1], src->axis[2],   src->n_axis[2]};
@@ -235,6 +265,7 @@ brdffit_status brdffit_grid_channel_mean(brdffit_grid **out, const brdffit_grid 
         g->values[s] = mean;
         if (present == 0) g->missing[s] = 1;
     }
+    bf_grid_store_float_values(g);
     *out = g;
     return BRDFFIT_OK;
 }
@@ -270,6 +301,7 @@ brdffit_status brdffit_grid_clearcoat(brdffit_grid **out, const brdffit_grid *gr
     if (st == BRDFFIT_OK && g->missing != NULL)
         memcpy(g->missing, grid->missing, g->n_samples * g->n_channels);
     if (st == BRDFFIT_OK) st = apply_coat(g, grid, r0, err);
+    if (st == BRDFFIT_OK) bf_grid_store_float_values(g);
     if (st != BRDFFIT_OK) {
         bf_grid_free(g);
         return st;

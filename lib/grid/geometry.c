@@ -7,13 +7,27 @@
 #include "core/core.h"
 #include "grid/grid_internal.h"
 
+/* Doubles of the arrays of the batch, then floats of the fused passes'. */
+#define BF_GEOMETRY_DOUBLES 13
+#define BF_GEOMETRY_FLOATS 3
+
+size_t bf_geometry_bytes(size_t n)
+{
+    size_t d, f;
+    if (!bf_mul_size(n, BF_GEOMETRY_DOUBLES * sizeof(double), &d) ||
+        !bf_mul_size(n, BF_GEOMETRY_FLOATS * sizeof(float), &f) || d > (size_t)-1 - f)
+        return 0;
+    return d + f;
+}
+
 int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n)
 {
-    size_t count;
+    size_t bytes = bf_geometry_bytes(n);
     double *p;
+    float *f;
     memset(g, 0, sizeof *g);
-    if (!bf_mul_size(n, BF_GEOMETRY_ARRAYS, &count)) return 0;
-    p = bf_calloc(a, count, sizeof(double));
+    if (bytes == 0) return 0;
+    p = bf_calloc(a, bytes, 1);
     if (p == NULL) return 0;
     g->block = p;
     g->lx = p;
@@ -28,8 +42,11 @@ int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n)
     g->hv = p + 9 * n;
     g->log_nh = p + 10 * n;
     g->rv = p + 11 * n;
-    g->as_g = p + 12 * n;
-    g->log_rv = p + 13 * n;
+    g->log_rv = p + 12 * n;
+    f = (float *)(void *)(p + BF_GEOMETRY_DOUBLES * n);
+    g->as_g = f;
+    g->w_base[BF_BASE_DEFAULT] = f + n;
+    g->w_base[BF_BASE_SOLID_ANGLE] = f + 2 * n;
     return 1;
 }
 
@@ -91,9 +108,11 @@ void bf_geometry_set(bf_geometry *g, size_t s, double theta_i, double phi_i, dou
     g->log_nh[s] = log(g->nh[s]);
     g->rv[s] = clamp_unit(-lx * vx - ly * vy + lz * vz);
     /* the parameter-independent factors of the fit's fused passes (the
-     * same expressions as the kernels', so the same bits) */
-    g->as_g[s] = 1.0 / (8.0 * BF_PI * g->hv[s] * (g->nl[s] > g->nv[s] ? g->nl[s] : g->nv[s]));
-    g->log_rv[s] = log(fmin(fmax(g->rv[s], DBL_MIN), 1.0));
+     * kernels' expressions; the lobe's geometry rounded once to single
+     * precision) */
+    g->log_rv[s] = g->rv[s] > 0.0 ? log(fmin(fmax(g->rv[s], DBL_MIN), 1.0)) : BF_LOG_RV_NONE;
+    g->as_g[s] =
+        (float)(1.0 / (8.0 * BF_PI * g->hv[s] * (g->nl[s] > g->nv[s] ? g->nl[s] : g->nv[s])));
 }
 
 void bf_geometry_batch(const bf_geometry *g, size_t first, size_t count, brdffit_batch *out)

@@ -71,10 +71,10 @@ void brdffit_grid_destroy(brdffit_grid *grid)
 /* Every size derived from (n_samples, n_channels) must fit in size_t. */
 brdffit_status bf_grid_check_sizes(size_t n_samples, size_t n_channels, brdffit_error *err)
 {
-    size_t n_values, bytes, geo;
+    size_t n_values, bytes;
     if (!bf_mul_size(n_samples, n_channels, &n_values) ||
-        !bf_mul_size(n_values, sizeof(double), &bytes) ||
-        !bf_mul_size(n_samples, 12 * sizeof(double), &geo))
+        !bf_mul_size(n_values, sizeof(double) + sizeof(float), &bytes) ||
+        bf_geometry_bytes(n_samples) == 0)
         return bf_fail(err, BRDFFIT_E_TOO_LARGE, "grid of %zu samples x %zu channels is too large",
                        n_samples, n_channels);
     return BRDFFIT_OK;
@@ -101,7 +101,9 @@ brdffit_status bf_grid_new(brdffit_grid **out, const brdffit_allocator *alloc,
     g->kind = kind;
     g->n_samples = n_samples;
     g->n_channels = n_channels;
-    g->values = bf_malloc(&a, n_samples * n_channels * sizeof(double)); /* filled by callers */
+    /* the values and their single-precision copy, filled by callers */
+    g->values = bf_malloc(&a, n_samples * n_channels * (sizeof(double) + sizeof(float)));
+    if (g->values != NULL) g->fvalues = (float *)(void *)(g->values + n_samples * n_channels);
     if (g->values == NULL || !bf_geometry_alloc(&g->geo, &a, n_samples)) {
         bf_grid_free(g);
         return bf_grid_oom(err);
@@ -257,7 +259,9 @@ brdffit_status brdffit_grid_create_regular(brdffit_grid **out, const brdffit_axe
         return st;
     }
     bf_grid_store_values(g, values, missing, NULL);
+    bf_grid_store_float_values(g);
     regular_geometry(g);
+    bf_grid_base_weights(g);
     *out = g;
     return BRDFFIT_OK;
 }

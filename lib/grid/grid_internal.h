@@ -14,20 +14,40 @@
 #define BF_CHUNK 64
 
 /* Derived per-sample geometry, structure of arrays (one allocation). The
- * first twelve fields mirror brdffit_batch; the last two are the
- * parameter-independent factors of the fit's fused passes (pass_fused.c):
- * as_g = 1 / (8 pi h.v max(n.l, n.v)), the Ashikhmin-Shirley lobe's
- * geometry, and log_rv = ln(min(max(r.v, DBL_MIN), 1)), the Phong lobe's
- * logarithm. */
+ * first twelve fields mirror brdffit_batch. The rest are what the fit's
+ * fused passes read per sample (pass_fused.c) besides log_nh: log_rv =
+ * ln r.v, the Phong lobe's logarithm (BF_LOG_RV_NONE where r.v <= 0,
+ * else ln(min(max(r.v, DBL_MIN), 1))), and, in single precision so that a
+ * pass streams fewer bytes, as_g = 1 / (8 pi h.v max(n.l, n.v)) (the
+ * Ashikhmin-Shirley lobe's geometry) and the residual weights of the two
+ * weightings with the solid angle (brdffit_grid_weights()) before the
+ * cap's normalisation: w_base[BF_BASE_DEFAULT] of BRDFFIT_WEIGHT_DEFAULT
+ * and w_base[BF_BASE_SOLID_ANGLE] of BRDFFIT_WEIGHT_SOLID_ANGLE, scaled
+ * into [0, 1]: scattered grids' divided by their largest (w_norm),
+ * regular grids' the product of the three axes' factors (the cells of the
+ * whole axes, without a cap) each divided by its axis's largest (w_norm
+ * 0); a plan's factors make them its weights (bf_weight_plan_base()).
+ * Every float is the double value rounded once. (The logarithms stay in
+ * double: exp(ns x) would carry the rounding of x times ns.) */
 typedef struct bf_geometry {
     double *lx, *ly, *lz, *vx, *vy, *vz;
     double *nl, *nv, *nh, *hv, *log_nh, *rv;
-    double *as_g, *log_rv;
-    double *block; /* the single allocation holding all arrays */
+    double *log_rv;
+    float *as_g;
+    float *w_base[2];
+    double w_norm[2];
+    void *block; /* the single allocation holding all arrays */
 } bf_geometry;
 
-/* Arrays of a bf_geometry, each n doubles. */
-#define BF_GEOMETRY_ARRAYS 14
+/* log_rv where r.v <= 0 (the Phong lobe is 0 there): below ln(DBL_MIN). */
+#define BF_LOG_RV_NONE (-1000.0)
+
+/* The two weightings of w_base. */
+#define BF_BASE_DEFAULT 0
+#define BF_BASE_SOLID_ANGLE 1
+
+/* Bytes of the geometry of n samples (0 on overflow). */
+size_t bf_geometry_bytes(size_t n);
 
 /* Allocate arrays for n samples; returns 0 on overflow or failure. */
 int bf_geometry_alloc(bf_geometry *g, const brdffit_allocator *a, size_t n);
@@ -53,12 +73,29 @@ struct brdffit_grid {
     size_t n_axis[3];
     bf_geometry geo;
     double *values;         /* [c * n_samples + s]; missing values are 0 */
+    float *fvalues;         /* the values times fscale in single precision ([c * n_samples
+                             * + s], after the doubles in the allocation of values, a
+                             * view's in its caller's buffer), read in place by the fused
+                             * passes (pass_fused.c) */
+    double fscale;          /* the power of two that brings the largest |value| into
+                             * [0.5, 1) (1 when every value is 0); 0 when none does (the
+                             * largest is below 2^-1000 or above 2^1000): the fused
+                             * passes then leave the grid to the other routes */
     unsigned char *missing; /* NULL when nothing is missing, else [c * n_samples + s] */
     double *sample_weight;  /* scattered: NULL (uniform) or one per sample */
     double *max_theta;      /* scattered: max(theta_i, theta_o), ascending */
     size_t *order;          /* scattered: NULL when the input was in stored order, else
                               * the input row of every stored sample */
 };
+
+/* Set g->fscale from the values and, when g->fvalues is not NULL, fill
+ * it (derived.c); every constructor calls it once its values are set. */
+void bf_grid_store_float_values(brdffit_grid *g);
+
+/* Fill g->geo.w_base and w_norm from the axes (regular grids) or the
+ * sample weights and the geometry (scattered grids) (weights.c); the
+ * constructors call it once those are set. */
+void bf_grid_base_weights(brdffit_grid *g);
 
 /* Validate a grid handle (non-NULL, magic). */
 int bf_grid_ok(const brdffit_grid *g);
@@ -105,11 +142,26 @@ typedef struct bf_weight_plan {
     /* regular grids */
     size_t n_ti_act, n_to_act, chunks_per_ti;
     double *w_ti, *w_to, *w_po; /* one allocation, w_ti owns it */
+    double top_to, top_po;      /* what w_to and w_po were divided by (1: nothing) */
+    /* the base form (bf_weight_plan_base()): the grid's base weights of the
+     * plan's weighting (NULL: none) times base_factor, or base_last from
+     * sample base_split of a theta_i block on (regular grids: the last
+     * active view row, whose cells the cap cuts) */
+    const float *base;
+    double base_factor, base_last;
+    size_t base_split;
     /* NULL, or every chunk's weights computed once (bf_weight_plan_fill()),
      * chunk i's at [i * BF_CHUNK], borrowed: bf_weight_plan_chunk() then
      * copies them (the same bits) instead of computing them */
     const double *cached;
 } bf_weight_plan;
+
+/* Samples [first, first + count) whose weights are the grid's base
+ * weights times factor. */
+typedef struct bf_weight_piece {
+    size_t first, count;
+    double factor;
+} bf_weight_piece;
 
 brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, double cap,
                                    unsigned flags, const brdffit_allocator *a, brdffit_error *err);
@@ -118,6 +170,12 @@ void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a);
  * written to `weights` (room for BF_CHUNK doubles). */
 void bf_weight_plan_chunk(const bf_weight_plan *p, size_t index, size_t *first, size_t *count,
                           double *weights);
+/* The samples of chunk `index` as one or two pieces whose weights are
+ * p->base[s] * factor, equal to bf_weight_plan_chunk()'s but for the
+ * single-precision rounding of the base weights (relative 2^-24); 0 when
+ * the plan has no base form (p->base NULL: a weighting without the solid
+ * angle, or factors out of the double range). */
+size_t bf_weight_plan_base(const bf_weight_plan *p, size_t index, bf_weight_piece piece[2]);
 
 /* Every chunk's weights into out (n_chunks * BF_CHUNK doubles, chunk i's
  * at [i * BF_CHUNK], the rest of a short chunk 0), for p->cached: a plan
@@ -129,10 +187,12 @@ void bf_weight_plan_fill(const bf_weight_plan *p, double *out);
 
 /* A view: a grid struct sharing the geometry, axes, sample weights and
  * order of `geometry` (borrowed, read only) with values of its own in the
- * caller's buffer `values` (n_samples * n_channels doubles), set by
- * bf_grid_view_set(). A view reads like a grid made from the same
+ * caller's buffer `values` (n_samples * n_channels values of
+ * BF_GRID_VIEW_BYTES each: the doubles, then their single-precision copy),
+ * set by bf_grid_view_set(). A view reads like a grid made from the same
  * directions and values, bit for bit; it owns nothing, is never destroyed
  * and must not outlive `geometry`. */
+#define BF_GRID_VIEW_BYTES (sizeof(double) + sizeof(float))
 void bf_grid_view_init(brdffit_grid *view, const brdffit_grid *geometry, double *values);
 /* Set the view's values from interleaved input in the sample order the
  * geometry grid was created with (as brdffit_grid_create_*() take them);
@@ -151,6 +211,14 @@ int bf_grid_has_missing(const brdffit_grid *g);
 /* Channel c's measured values (n_samples doubles, missing ones 0), for
  * the fused passes that read them in place. */
 const double *bf_grid_values(const brdffit_grid *g, size_t c);
+
+/* Channel c's values times bf_grid_fscale() in single precision, for the
+ * fused passes that read them in place (NULL for a grid without values). */
+const float *bf_grid_fvalues(const brdffit_grid *g, size_t c);
+
+/* The power of two of bf_grid_fvalues() (grid field fscale): 0 when the
+ * values cannot be scaled into single precision. */
+double bf_grid_fscale(const brdffit_grid *g);
 
 /* The whole geometry of the grid (its arrays start at sample 0). */
 const bf_geometry *bf_grid_geometry(const brdffit_grid *g);

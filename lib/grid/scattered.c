@@ -125,6 +125,8 @@ static brdffit_status fill_scattered(brdffit_grid *g, const scattered_input *in,
             bf_geometry_set(&g->geo, s, in->theta_i[k], in->phi_i[k], in->theta_o[k], in->phi_o[k]);
             if (g->sample_weight != NULL) g->sample_weight[s] = in->weights[k];
         }
+        bf_grid_store_float_values(g);
+        bf_grid_base_weights(g);
     }
     /* kept for views (view.c) unless it is the identity */
     for (s = 0; st == BRDFFIT_OK && s < n && order[s] == s; s++) continue;

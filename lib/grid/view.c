@@ -7,6 +7,8 @@ void bf_grid_view_init(brdffit_grid *view, const brdffit_grid *geometry, double 
 {
     *view = *geometry; /* geometry, axes, sample weights, order: borrowed */
     view->values = values;
+    view->fvalues = (float *)(void *)(values + geometry->n_samples * geometry->n_channels);
+    view->fscale = 0.0;
     view->missing = NULL;
     view->n_missing = 0;
 }
@@ -26,5 +28,6 @@ brdffit_status bf_grid_view_set(brdffit_grid *view, const double *values,
     view->n_missing = n_missing;
     if (n_missing > 0) view->missing = mask;
     bf_grid_store_values(view, values, missing, view->order);
+    bf_grid_store_float_values(view);
     return BRDFFIT_OK;
 }

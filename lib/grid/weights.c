@@ -68,6 +68,26 @@ static double phi_width(const double *x, size_t n, size_t k)
     return hi - lo;
 }
 
+/* The factors of the three axes: light cosine, view cell's polar extent
+ * (cells ending at `cap` after index `last`) and azimuthal width. */
+static double ti_factor(const brdffit_grid *g, size_t i, int cosine)
+{
+    return cosine ? fmax(bf_cos_polar(g->axis[0][i]), 0.0) : 1.0;
+}
+
+static double to_factor(const brdffit_grid *g, size_t j, size_t last, double cap, int solid)
+{
+    double lo, hi;
+    if (!solid) return 1.0;
+    theta_cell(g->axis[1], g->n_axis[1], j, last, cap, &lo, &hi);
+    return fmax(cos(lo) - cos(hi), 0.0);
+}
+
+static double po_factor(const brdffit_grid *g, size_t k, int solid)
+{
+    return solid ? phi_width(g->axis[2], g->n_axis[2], k) : 1.0;
+}
+
 /* Per-axis factors; returns the sum of the active cells' solid angles. */
 static double regular_factors(bf_weight_plan *p, double cap)
 {
@@ -76,32 +96,106 @@ static double regular_factors(bf_weight_plan *p, double cap)
     double sum_to = 0.0, sum_po = 0.0;
     int solid = (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) != 0;
     int cosine = (p->flags & BRDFFIT_WEIGHT_COSINE) != 0;
-    for (i = 0; i < p->n_ti_act; i++)
-        p->w_ti[i] = cosine ? fmax(bf_cos_polar(g->axis[0][i]), 0.0) : 1.0;
+    for (i = 0; i < p->n_ti_act; i++) p->w_ti[i] = ti_factor(g, i, cosine);
     for (j = 0; j < p->n_to_act; j++) {
-        double lo, hi;
-        theta_cell(g->axis[1], g->n_axis[1], j, p->n_to_act - 1, cap, &lo, &hi);
-        p->w_to[j] = solid ? cos(lo) - cos(hi) : 1.0;
-        if (p->w_to[j] < 0.0) p->w_to[j] = 0.0;
+        p->w_to[j] = to_factor(g, j, p->n_to_act - 1, cap, solid);
         sum_to += p->w_to[j];
     }
     for (k = 0; k < g->n_axis[2]; k++) {
-        p->w_po[k] = solid ? phi_width(g->axis[2], g->n_axis[2], k) : 1.0;
+        p->w_po[k] = po_factor(g, k, solid);
         sum_po += p->w_po[k];
     }
     return sum_to * sum_po;
 }
 
-/* Divides the n factors by their largest and returns their new sum (>= 1
- * when any factor is > 0), so that 1 / sum cannot overflow. */
-static double rescale(double *w, size_t n)
+/* Divides the n factors by their largest (into *top) and returns their
+ * new sum (>= 1 when any factor is > 0), so that 1 / sum cannot overflow. */
+static double rescale(double *w, size_t n, double *top)
 {
-    double top = 0.0, sum = 0.0;
+    double sum = 0.0;
     size_t j;
-    for (j = 0; j < n; j++) top = fmax(top, w[j]);
-    if (!(top > 0.0)) return 0.0;
-    for (j = 0; j < n; j++) sum += w[j] /= top;
+    *top = 0.0;
+    for (j = 0; j < n; j++) *top = fmax(*top, w[j]);
+    if (!(*top > 0.0)) return 0.0;
+    for (j = 0; j < n; j++) sum += w[j] /= *top;
     return sum;
+}
+
+/* The largest of the n values of f(g, index), at least 0. */
+static double largest_of(const brdffit_grid *g, size_t n,
+                         double (*f)(const brdffit_grid *, size_t, int), int flag)
+{
+    double top = 0.0;
+    size_t k;
+    for (k = 0; k < n; k++) top = fmax(top, f(g, k, flag));
+    return top;
+}
+
+static double to_factor_uncapped(const brdffit_grid *g, size_t j, int solid)
+{
+    return to_factor(g, j, g->n_axis[1] - 1, BF_HALF_PI, solid);
+}
+
+/* Regular grids: the weight of sample (i, j, k) before the cap's
+ * normalisation is (w_ti w_to) w_po, with the view cells of the whole
+ * axes; the base weight is the product of the three factors each divided
+ * by the largest of its axis (into m[3]: the products of such tiny or
+ * huge factors would leave the double range). */
+static void regular_maxima(const brdffit_grid *g, int b, double m[3])
+{
+    m[0] = largest_of(g, g->n_axis[0], ti_factor, b == BF_BASE_DEFAULT);
+    m[1] = largest_of(g, g->n_axis[1], to_factor_uncapped, 1);
+    m[2] = largest_of(g, g->n_axis[2], po_factor, 1);
+}
+
+static void regular_base(brdffit_grid *g, int b)
+{
+    const size_t n_ti = g->n_axis[0], n_to = g->n_axis[1], n_po = g->n_axis[2];
+    const int cosine = b == BF_BASE_DEFAULT;
+    float *out = g->geo.w_base[b];
+    double m[3];
+    size_t i, j, k;
+    regular_maxima(g, b, m);
+    for (i = 0; i < n_ti; i++) {
+        const double fi = m[0] > 0.0 ? ti_factor(g, i, cosine) / m[0] : 0.0;
+        for (j = 0; j < n_to; j++) {
+            const double fij = fi * (m[1] > 0.0 ? to_factor_uncapped(g, j, 1) / m[1] : 0.0);
+            for (k = 0; k < n_po; k++)
+                *out++ = (float)(fij * (m[2] > 0.0 ? po_factor(g, k, 1) / m[2] : 0.0));
+        }
+    }
+    g->geo.w_norm[b] = 0.0; /* the plan takes the axes' largest factors */
+}
+
+/* Scattered grids: the weight before normalisation is the sample's given
+ * weight (1 without) times cos(theta_i) for the default weighting; the
+ * base weight is it divided by its largest, w_norm. */
+static double scattered_raw(const brdffit_grid *g, size_t s, int b)
+{
+    const double sw = g->sample_weight != NULL ? g->sample_weight[s] : 1.0;
+    const double c = g->geo.lz[s];
+    return b == BF_BASE_DEFAULT ? sw * (c > 0.0 ? c : 0.0) : sw;
+}
+
+static void scattered_base(brdffit_grid *g, int b)
+{
+    double top = 0.0;
+    size_t s, n = g->n_samples;
+    for (s = 0; s < n; s++) top = fmax(top, scattered_raw(g, s, b));
+    for (s = 0; s < n; s++)
+        g->geo.w_base[b][s] = top > 0.0 ? (float)(scattered_raw(g, s, b) / top) : 0.0f;
+    g->geo.w_norm[b] = top;
+}
+
+void bf_grid_base_weights(brdffit_grid *g)
+{
+    int b;
+    for (b = 0; b < 2; b++) {
+        if (g->kind == BRDFFIT_GRID_REGULAR)
+            regular_base(g, b);
+        else
+            scattered_base(g, b);
+    }
 }
 
 static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_allocator *a,
@@ -123,7 +217,8 @@ static brdffit_status plan_regular(bf_weight_plan *p, double cap, const brdffit_
     if (p->flags & BRDFFIT_WEIGHT_SOLID_ANGLE) {
         /* Cells so small that the total is subnormal (1 / sum would
          * overflow): scale each axis's factors to a largest of 1 first. */
-        if (!(sum >= DBL_MIN)) sum = rescale(p->w_to, p->n_to_act) * rescale(p->w_po, n_po);
+        if (!(sum >= DBL_MIN))
+            sum = rescale(p->w_to, p->n_to_act, &p->top_to) * rescale(p->w_po, n_po, &p->top_po);
         if (!(sum > 0.0))
             return bf_fail(err, BRDFFIT_E_NO_DATA,
                            "the view cells within the cap of %g rad have no solid angle (the "
@@ -164,6 +259,22 @@ static void chunk_regular(const bf_weight_plan *p, size_t index, size_t *first, 
 }
 
 /* ---- scattered grids ------------------------------------------------------- */
+
+/* The base form of a regular plan: w = base * factor with factor
+ * scale m_ti m_to m_po / (top_to top_po) (the capped view factors equal
+ * the uncapped ones but in the last active row, whose own factor
+ * follows), the quotients formed first. */
+static void regular_base_form(bf_weight_plan *p, int b, double cap)
+{
+    const brdffit_grid *g = p->grid;
+    const size_t last = p->n_to_act - 1;
+    const double capped = to_factor(g, last, last, cap, 1), whole = to_factor_uncapped(g, last, 1);
+    double m[3];
+    regular_maxima(g, b, m);
+    p->base_factor = p->scale * (m[1] / p->top_to) * (m[2] / p->top_po) * m[0];
+    p->base_last = whole > 0.0 ? p->base_factor * (capped / whole) : p->base_factor;
+    p->base_split = last * g->n_axis[2];
+}
 
 static brdffit_status plan_scattered(bf_weight_plan *p, double cap, brdffit_error *err)
 {
@@ -216,6 +327,64 @@ static void chunk_scattered(const bf_weight_plan *p, size_t index, size_t *first
 
 /* ---- the plan ---------------------------------------------------------------- */
 
+/* The plan's weights as the grid's base weights times factors, for the
+ * weightings with the solid angle; none (base NULL) for the others or
+ * when a factor is not a finite positive number (axes or sample weights
+ * spanning more than the double range). */
+static void base_form(bf_weight_plan *p, double cap)
+{
+    const brdffit_grid *g = p->grid;
+    int b = p->flags == BRDFFIT_WEIGHT_DEFAULT       ? BF_BASE_DEFAULT
+            : p->flags == BRDFFIT_WEIGHT_SOLID_ANGLE ? BF_BASE_SOLID_ANGLE
+                                                     : -1;
+    p->base = NULL;
+    if (b < 0) return;
+    if (g->kind == BRDFFIT_GRID_REGULAR) {
+        regular_base_form(p, b, cap);
+    } else {
+        p->base_factor = g->geo.w_norm[b] / p->divisor * p->scale;
+        p->base_last = p->base_factor;
+        p->base_split = 0;
+    }
+    if (isfinite(p->base_factor) && p->base_factor > 0.0 && isfinite(p->base_last) &&
+        p->base_last >= 0.0)
+        p->base = g->geo.w_base[b];
+}
+
+size_t bf_weight_plan_base(const bf_weight_plan *p, size_t index, bf_weight_piece piece[2])
+{
+    const brdffit_grid *g = p->grid;
+    size_t n_po, i, start, count, before;
+    if (p->base == NULL) return 0;
+    if (g->kind != BRDFFIT_GRID_REGULAR) {
+        start = index * BF_CHUNK;
+        piece[0].first = start;
+        piece[0].count = p->n_active - start < BF_CHUNK ? p->n_active - start : BF_CHUNK;
+        piece[0].factor = p->base_factor;
+        return 1;
+    }
+    /* chunk_regular()'s samples: those before the last active view row of
+     * the theta_i block, then those in it */
+    n_po = g->n_axis[2];
+    i = index / p->chunks_per_ti;
+    start = index % p->chunks_per_ti * BF_CHUNK;
+    count = p->n_to_act * n_po - start < BF_CHUNK ? p->n_to_act * n_po - start : BF_CHUNK;
+    before = start >= p->base_split ? 0 : p->base_split - start;
+    if (before > count) before = count;
+    piece[0].first = i * g->n_axis[1] * n_po + start;
+    if (p->base_last == p->base_factor || before == 0 || before == count) {
+        piece[0].count = count;
+        piece[0].factor = before > 0 ? p->base_factor : p->base_last;
+        return 1;
+    }
+    piece[0].count = before;
+    piece[0].factor = p->base_factor;
+    piece[1].first = piece[0].first + before;
+    piece[1].count = count - before;
+    piece[1].factor = p->base_last;
+    return 2;
+}
+
 brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, double cap,
                                    unsigned flags, const brdffit_allocator *a, brdffit_error *err)
 {
@@ -232,10 +401,15 @@ brdffit_status bf_weight_plan_init(bf_weight_plan *p, const brdffit_grid *g, dou
     p->flags = flags;
     p->scale = 1.0;
     p->divisor = 1.0;
+    p->top_to = p->top_po = 1.0;
     st = g->kind == BRDFFIT_GRID_REGULAR ? plan_regular(p, cap, a, err)
                                          : plan_scattered(p, cap, err);
-    if (st != BRDFFIT_OK) bf_weight_plan_free(p, a);
-    return st;
+    if (st != BRDFFIT_OK) {
+        bf_weight_plan_free(p, a);
+        return st;
+    }
+    base_form(p, cap);
+    return BRDFFIT_OK;
 }
 
 void bf_weight_plan_free(bf_weight_plan *p, const brdffit_allocator *a)

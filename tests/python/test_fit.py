@@ -103,13 +103,18 @@ class Recovery(unittest.TestCase):
 
     def test_builtin_auto(self):
         fit = Fit(self.grid, self.builtin).run()
-        self.assertLess(support.relative_difference(fit.params, self.truth), 1e-8)
+        # the built-in model's passes read single-precision weights, lobe
+        # geometry and values: the noise-free data's fit ends within 1e-7
+        # of the truth (relative), not at rounding level
+        self.assertLess(support.relative_difference(fit.params, self.truth), 1e-7)
         by_name = fit.params_by_name()
-        self.assertAlmostEqual(by_name["ns"], 120.0, delta=1e-6)
-        np.testing.assert_allclose(by_name["cd"], TRUTH["cd"], rtol=1e-8)
+        self.assertAlmostEqual(by_name["ns"], 120.0, delta=120.0 * 1e-7)
+        np.testing.assert_allclose(by_name["cd"], TRUTH["cd"], rtol=1e-7)
         self.assertIn(fit.stop_reason, brdffit.STOP_REASONS)
-        self.assertLess(fit.error("rms"), 1e-8)
-        self.assertLess(fit.error("rms", channel=2), 1e-8)
+        # within 1e-6 of the values' own rms (the peak reaches ~10)
+        scale = float(np.sqrt(np.mean(self.grid.values ** 2)))
+        self.assertLess(fit.error("rms"), 1e-6 * scale)
+        self.assertLess(fit.error("rms", channel=2), 1e-6 * scale)
 
     def test_objectives(self):
         """Every objective recovers the data's own parameters; the cost is the
@@ -172,7 +177,8 @@ class Recovery(unittest.TestCase):
         a = Fit(noisy, self.builtin).run()
         b = Fit(noisy, support.python_as_model()).run()
         self.assertLess(support.relative_difference(b.params, a.params), 1e-7)
-        self.assertAlmostEqual(b.error("rms") / a.error("rms"), 1.0, places=9)
+        # the built-in fit's optimum moves with its single-precision inputs
+        self.assertAlmostEqual(b.error("rms") / a.error("rms"), 1.0, places=6)
 
     def test_threads(self):
         model = support.python_as_model()
