@@ -254,8 +254,9 @@ static double lobe_top(const brdffit_model *m, const bf_lobe_desc *l, double x, 
 }
 
 /* For every built-in lobe with a table, at shapes between the nodes over
- * its whole range (and two Fresnel values where it has one): the bound is
- * never below the integral and at most 3 % above it. Also: user models and
+ * its whole range (5; BRDFFIT_TEST_QUICK: the first, middle and last of
+ * them) (and two Fresnel values where it has one): the bound is never
+ * below the integral and at most 3 % above it. Also: user models and
  * models without a lobe of a linear colour have no lobes, and a sharpness
  * outside the table gives no bound (0). */
 static void test_lobe_bound(void **state)
@@ -264,6 +265,7 @@ static void test_lobe_bound(void **state)
                                         "ashikhmin-shirley-fresnel", "cook-torrance", "ggx",
                                         "ward", "ward-duer", "ggx-2"};
     static const double F[2] = {0.04, 0.7};
+    const size_t stride = test_quick() ? 2 : 1;
     double worst = 0.0;
     size_t i, j, s;
     (void)state;
@@ -274,7 +276,7 @@ static void test_lobe_bound(void **state)
         assert_non_null(lobes);
         l = &lobes->lobe[lobes->n - 1];
         assert_non_null(l->albedo);
-        for (s = 0; s < 5; s++) {
+        for (s = 0; s < 5; s += stride) {
             /* 0.37, 2.74, ... cells into the table: between nodes */
             double cell = 0.37 + (double)s * ((double)(l->albedo->n - 2) / 4.6);
             double x = pow(10.0, l->albedo->log10_lo + cell / l->albedo->per_decade);
@@ -333,7 +335,8 @@ static double lafortune_reference(double n, double cz, double ti)
 }
 
 /* Lafortune's bound (its axial table) at points between the table's nodes
- * over the whole range of n and over cz: never below the largest albedo
+ * over the whole range of n (7; BRDFFIT_TEST_QUICK: the first, middle and
+ * last of them) and over cz: never below the largest albedo
  * over the bound's angles, by the reference above, and at most 3 % above
  * it. Also the reference against the library's integral where that
  * resolves the lobe (n >= 3, cz = 1: the mirror lobe), and no bound outside
@@ -345,6 +348,7 @@ static void test_lafortune_bound(void **state)
     brdffit_model *m = make("lafortune");
     const bf_lobes *lobes = bf_model_lobes(m);
     const bf_lobe_desc *l;
+    const size_t stride = test_quick() ? 3 : 1;
     double worst = 0.0, ti[BF_ALBEDO_ANGLES], lib[BF_ALBEDO_ANGLES];
     size_t s, k, t;
     (void)state;
@@ -354,7 +358,7 @@ static void test_lafortune_bound(void **state)
     assert_non_null(l->axial);
     assert_string_equal(brdffit_model_param(m, l->fresnel)->name, "cz");
     for (t = 0; t < BF_ALBEDO_ANGLES; t++) ti[t] = deg[t] * PI / 180.0;
-    for (s = 0; s < 7; s++) {
+    for (s = 0; s < 7; s += stride) {
         /* 0.37, 12.0, ... cells into the table of n: between nodes */
         double cell = 0.37 + (double)s * ((double)(l->axial->n - 2) / 6.1);
         double n = pow(10.0, l->axial->log10_lo + cell / l->axial->per_decade);

@@ -50,3 +50,8 @@ void assert_close_impl(double a, double b, double tol, const char *what, const c
         _fail(file, line);
     }
 }
+
+int test_quick(void)
+{
+    return getenv("BRDFFIT_TEST_QUICK") != NULL;
+}

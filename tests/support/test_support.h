@@ -24,6 +24,10 @@ void counting_alloc_init(counting_alloc *ca, size_t fail_at);
 void assert_close_impl(double a, double b, double tol, const char *what, const char *file,
                        int line);
 
+/* Nonzero when BRDFFIT_TEST_QUICK is set (the valgrind runs): the slowest
+ * tests then sample fewer points, keeping every code path and assertion. */
+int test_quick(void);
+
 #define DEG(x) ((x) * 3.14159265358979323846 / 180.0)
 
 #endif
