@@ -16,7 +16,7 @@
 # 4. build-clang/  clang, warnings as errors, all tests but the browser ones;
 # 5. build-fuzz/   clang libFuzzer harnesses (tests/fuzz) with AddressSanitizer
 #                  and UndefinedBehaviorSanitizer, each fuzzed for
-#                  BRDFFIT_FUZZ_SECONDS (default 60) from a scratch copy of its
+#                  BRDFFIT_FUZZ_SECONDS (default 30) from a scratch copy of its
 #                  stored corpus (tests/fuzz/run_fuzzers.sh);
 # 6. build-valgrind/ gcc, every test program once more under valgrind
 #                  memcheck (ctest label valgrind, tests/valgrind);
@@ -96,8 +96,8 @@ fuzz_stage()
         -DBRDFFIT_FUZZ=ON -DBRDFFIT_BUILD_TOOLS=OFF -DBRDFFIT_BUILD_EXAMPLES=OFF || return 1
     log "fuzz: build"
     cmake --build build-fuzz -j"$jobs" --target fuzz || return 1
-    log "fuzz: run each harness for ${BRDFFIT_FUZZ_SECONDS:-60} s"
-    bash tests/fuzz/run_fuzzers.sh build-fuzz "${BRDFFIT_FUZZ_SECONDS:-60}"
+    log "fuzz: run each harness for ${BRDFFIT_FUZZ_SECONDS:-30} s"
+    bash tests/fuzz/run_fuzzers.sh build-fuzz "${BRDFFIT_FUZZ_SECONDS:-30}"
 }
 
 # tsan_stage: the threaded test programs under ThreadSanitizer.

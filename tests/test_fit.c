@@ -134,14 +134,17 @@ static void check_recovery(const truth *t, unsigned weighting, double tol)
 }
 
 /* Every built-in model, auto pipeline, no start values: exact data give the
- * true parameters back, with both weightings and with none. */
+ * true parameters back, with both weightings and with none.
+ * BRDFFIT_TEST_QUICK (the sanitizer and valgrind runs): every model with
+ * one of the two, in turn, so that both are still run. */
 static void test_auto_recovers_every_model(void **state)
 {
+    const int quick = getenv("BRDFFIT_TEST_QUICK") != NULL;
     size_t i;
     (void)state;
     for (i = 0; i < sizeof TRUTHS / sizeof TRUTHS[0]; i++) {
-        check_recovery(&TRUTHS[i], BRDFFIT_WEIGHT_DEFAULT, 1e-6);
-        check_recovery(&TRUTHS[i], BRDFFIT_WEIGHT_NONE, 1e-6);
+        if (!quick || i % 2 == 0) check_recovery(&TRUTHS[i], BRDFFIT_WEIGHT_DEFAULT, 1e-6);
+        if (!quick || i % 2 == 1) check_recovery(&TRUTHS[i], BRDFFIT_WEIGHT_NONE, 1e-6);
     }
 }
 
