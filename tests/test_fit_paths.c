@@ -3,6 +3,7 @@
  * values the generic one (the model's Jacobian per channel). The same
  * built-in model with its basis form switched off must give the same fit. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fit_fixtures.h"
@@ -53,13 +54,16 @@ static void fit_both_ways(const char *name, brdffit_pipeline pipeline, const brd
 }
 
 /* Data from a Lambert + Cook-Torrance mix with noise, fitted by every
- * built-in model both ways, joint and auto. */
+ * built-in model both ways, joint and auto. BRDFFIT_TEST_QUICK (the
+ * sanitizer and valgrind runs): every model in one of the two pipelines,
+ * in turn, so that both routes of every model are still compared. */
 static void test_basis_and_generic_paths_agree(void **state)
 {
     static const double v[4][8] = {{0.15}, {0.04}, {0.25, 0.12, 0.05}, {0.6, 0.6, 0.6}};
     brdffit_model *ct = NULL;
     brdffit_grid *grid;
     double p[MAXV];
+    const int quick = getenv("BRDFFIT_TEST_QUICK") != NULL;
     size_t i;
     (void)state;
     assert_int_equal(brdffit_model_create(&ct, "cook-torrance", NULL, NULL), BRDFFIT_OK);
@@ -68,10 +72,11 @@ static void test_basis_and_generic_paths_agree(void **state)
     assert_non_null(grid);
     for (i = 0; i < brdffit_model_builtin_count(); i++) {
         const char *name = brdffit_model_builtin_name(i);
+        const int auto_ok = strstr(name, "-2") == NULL;
         if (strncmp(name, "gltf", 4) == 0 || strncmp(name, "openpbr", 7) == 0)
             continue; /* no basis form: the generic route only */
-        fit_both_ways(name, BRDFFIT_PIPELINE_JOINT, grid);
-        if (strstr(name, "-2") == NULL) fit_both_ways(name, BRDFFIT_PIPELINE_AUTO, grid);
+        if (!quick || i % 2 == 0 || !auto_ok) fit_both_ways(name, BRDFFIT_PIPELINE_JOINT, grid);
+        if (auto_ok && (!quick || i % 2 == 1)) fit_both_ways(name, BRDFFIT_PIPELINE_AUTO, grid);
     }
     brdffit_grid_destroy(grid);
     brdffit_model_destroy(ct);
