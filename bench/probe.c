@@ -54,81 +54,92 @@ void probe_free(probe_data *pd)
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #pragma GCC diagnostic ignored "-Wpsabi"
-typedef double v8 __attribute__((vector_size(64)));
 
-static inline v8 ld(const double *p)
-{
-    v8 v;
-    memcpy(&v, p, sizeof v);
-    return v;
-}
-
-static inline v8 sp(double x)
-{
-    v8 v = {x, x, x, x, x, x, x, x};
-    return v;
-}
-
-/* bf_exp() on 8 lanes, without its range guards (arguments here lie in
- * [-709, 0]), so the floor is not flattered by work the probe skips. */
-static inline v8 vexp(v8 x)
-{
-    typedef unsigned long long u8 __attribute__((vector_size(64)));
-    const v8 shifter = sp(6755399441055744.0);
-    v8 t = x * sp(1.4426950408889634) + shifter, k = t - shifter, p;
-    v8 r = (x - k * sp(6.93147180369123816490e-01)) - k * sp(1.90821492927058770002e-10);
-    static const double c[14] = {1.0 / 6227020800.0, 1.0 / 479001600.0, 1.0 / 39916800.0,
-                                 1.0 / 3628800.0,    1.0 / 362880.0,    1.0 / 40320.0,
-                                 1.0 / 5040.0,       1.0 / 720.0,       1.0 / 120.0,
-                                 1.0 / 24.0,         1.0 / 6.0,         0.5,
-                                 1.0,                1.0};
-    int i;
-    p = sp(c[0]);
-    for (i = 1; i < 14; i++) p = p * r + sp(c[i]);
-    return p * (v8)(((u8)t + 1023u) << 52);
-}
-
-static inline void body(const probe_data *pd, double *out)
-{
-    v8 s[PROBE_SUMS];
-    size_t i, c, j;
-    for (j = 0; j < PROBE_SUMS; j++) s[j] = sp(0.0);
-    for (i = 0; i + 8 <= pd->n; i += 8) {
-        const v8 w = ld(pd->w + i), x = ld(pd->x + i);
-        const v8 p = vexp(sp(pd->ns) * x) * ld(pd->g + i);
-        const v8 b1 = sp(pd->k) * p, u0 = w * sp(1.0 / PI), u1 = w * b1;
-        const v8 u2 = w * ((sp(pd->dk) + sp(pd->k) * x) * p);
-        s[1] += u0 * u0, s[2] += u0 * u1, s[3] += u0 * u2;
-        s[4] += u1 * u1, s[5] += u1 * u2, s[6] += u2 * u2;
-        for (c = 0; c < 3; c++) {
-            const v8 d = ((sp(pd->cd[c] / PI) - ld(pd->m[c] + i)) + sp(pd->cs[c]) * b1) * w;
-            s[0] += d * d;
-            s[7 + 3 * c] += u0 * d, s[8 + 3 * c] += u1 * d, s[9 + 3 * c] += u2 * d;
-        }
+/* One body per vector width W (8 doubles for AVX-512, 4 for AVX2), so
+ * that each clone keeps its 16 accumulators in registers (16 ymm or 32
+ * zmm): 8-lane vectors split into two ymm halves would need 32. The
+ * exponential is bf_exp() on W lanes without its range guards (arguments
+ * here lie in [-709, 0]), so the floor is not flattered by work the probe
+ * skips. */
+#define PROBE_BODY(NAME, W, TARGET)                                                              \
+    typedef double NAME##_v __attribute__((vector_size(8 * (W))));                               \
+    typedef unsigned long long NAME##_u __attribute__((vector_size(8 * (W))));                   \
+    __attribute__((target(TARGET))) static inline NAME##_v NAME##_ld(const double *p)            \
+    {                                                                                            \
+        NAME##_v v;                                                                              \
+        memcpy(&v, p, sizeof v);                                                                 \
+        return v;                                                                                \
+    }                                                                                            \
+    __attribute__((target(TARGET))) static inline NAME##_v NAME##_sp(double x)                   \
+    {                                                                                            \
+        return (NAME##_v){0} + x;                                                                \
+    }                                                                                            \
+    __attribute__((target(TARGET))) static inline NAME##_v NAME##_exp(NAME##_v x)                \
+    {                                                                                            \
+        const NAME##_v shifter = NAME##_sp(6755399441055744.0);                                  \
+        NAME##_v t = x * NAME##_sp(1.4426950408889634) + shifter, k = t - shifter, p;            \
+        NAME##_v r = (x - k * NAME##_sp(6.93147180369123816490e-01)) -                           \
+                     k * NAME##_sp(1.90821492927058770002e-10);                                  \
+        int i;                                                                                   \
+        p = NAME##_sp(exp_coef[0]);                                                              \
+        for (i = 1; i < 14; i++) p = p * r + NAME##_sp(exp_coef[i]);                             \
+        return p * (NAME##_v)(((NAME##_u)t + 1023u) << 52);                                      \
+    }                                                                                            \
+    __attribute__((target(TARGET), flatten)) static void NAME(const probe_data *pd, double *out) \
+    {                                                                                            \
+        NAME##_v s[PROBE_SUMS];                                                                  \
+        size_t i, c, j;                                                                          \
+        for (j = 0; j < PROBE_SUMS; j++) s[j] = NAME##_sp(0.0);                                  \
+        for (i = 0; i + (W) <= pd->n - pd->n % 8; i += (W)) {                                    \
+            const NAME##_v w = NAME##_ld(pd->w + i), x = NAME##_ld(pd->x + i);                   \
+            const NAME##_v p = NAME##_exp(NAME##_sp(pd->ns) * x) * NAME##_ld(pd->g + i);         \
+            const NAME##_v b1 = NAME##_sp(pd->k) * p, u0 = w * NAME##_sp(1.0 / PI), u1 = w * b1; \
+            const NAME##_v u2 = w * ((NAME##_sp(pd->dk) + NAME##_sp(pd->k) * x) * p);            \
+            s[1] += u0 * u0, s[2] += u0 * u1, s[3] += u0 * u2;                                   \
+            s[4] += u1 * u1, s[5] += u1 * u2, s[6] += u2 * u2;                                   \
+            for (c = 0; c < 3; c++) {                                                            \
+                const NAME##_v d = ((NAME##_sp(pd->cd[c] / PI) - NAME##_ld(pd->m[c] + i)) +      \
+                                    NAME##_sp(pd->cs[c]) * b1) *                                 \
+                                   w;                                                            \
+                s[0] += d * d;                                                                   \
+                s[7 + 3 * c] += u0 * d, s[8 + 3 * c] += u1 * d, s[9 + 3 * c] += u2 * d;          \
+            }                                                                                    \
+        }                                                                                        \
+        for (j = 0; j < PROBE_SUMS; j++) {                                                       \
+            double t = 0.0;                                                                      \
+            for (c = 0; c < (W); c++) t += s[j][c];                                              \
+            out[j] = t;                                                                          \
+        }                                                                                        \
     }
-    for (j = 0; j < PROBE_SUMS; j++) {
-        double t = 0.0;
-        for (c = 0; c < 8; c++) t += s[j][c];
-        out[j] = t;
-    }
-}
 
-__attribute__((target("avx512f"), flatten)) static void body512(const probe_data *pd, double *out)
-{
-    body(pd, out);
-}
+static const double exp_coef[14] = {1.0 / 6227020800.0,
+                                    1.0 / 479001600.0,
+                                    1.0 / 39916800.0,
+                                    1.0 / 3628800.0,
+                                    1.0 / 362880.0,
+                                    1.0 / 40320.0,
+                                    1.0 / 5040.0,
+                                    1.0 / 720.0,
+                                    1.0 / 120.0,
+                                    1.0 / 24.0,
+                                    1.0 / 6.0,
+                                    0.5,
+                                    1.0,
+                                    1.0};
 
-__attribute__((target("avx2"), flatten)) static void body256(const probe_data *pd, double *out)
-{
-    body(pd, out);
-}
+PROBE_BODY(body512, 8, "avx512f,fma")
+PROBE_BODY(body256, 4, "avx2,fma")
+PROBE_BODY(body128, 2, "sse2")
 
 void probe_normal(const probe_data *pd, int avx512, double *out)
 {
     __builtin_cpu_init();
-    if (avx512 && __builtin_cpu_supports("avx512f")) body512(pd, out);
-    else if (__builtin_cpu_supports("avx2")) body256(pd, out);
-    else body(pd, out);
+    if (avx512 && __builtin_cpu_supports("avx512f"))
+        body512(pd, out);
+    else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        body256(pd, out);
+    else
+        body128(pd, out);
 }
 #else
 void probe_normal(const probe_data *pd, int avx512, double *out)
