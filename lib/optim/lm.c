@@ -225,7 +225,7 @@ static double raise_lambda(lm_run *run, double lambda, double target, int nonzer
     if (!(target > 0.0)) return lambda;
     for (k = 0; k < 60; k++) {
         double len;
-        (void)bf_optim_step(opt, lambda, 1.0, run->bound, &bounded, &fallback);
+        bf_optim_step_only(opt, lambda, 1.0, run->bound, &bounded, &fallback);
         len = masked_length(w, p, nonzero);
         if (!(len > target) || lambda >= BF_LAMBDA_MAX) break;
         lambda = fmin(BF_LAMBDA_MAX, lambda * fmax(2.0, len / target));
@@ -272,8 +272,10 @@ static double start_lambda(lm_run *run, double lambda)
 /* Step control (BRDFFIT_OPT_STEP_CONTROL), after a very successful step
  * (rho > 0.75): lower lambda by factors of 10 while the step from the new
  * point stays within twice the scaled length of the step just taken
- * (MINPACK doubles its trust radius so). Returns the new lambda, at most
- * lambda. */
+ * (MINPACK doubles its trust radius so). Once a tenth of lambda leaves
+ * every damped diagonal as it was, the step is the last one solved and
+ * is not solved again (bf_optim_step_only() keeps it for the next
+ * iteration too). Returns the new lambda, at most lambda. */
 static double grow_lambda(lm_run *run, double lambda, double last_len)
 {
     brdffit_optimizer *opt = run->opt;
@@ -281,7 +283,7 @@ static double grow_lambda(lm_run *run, double lambda, double last_len)
     size_t k, p = opt->n_params;
     int bounded = 0, fallback = 0;
     for (k = 0; k < 16 && lambda > BF_LAMBDA_MIN * 10.0; k++) {
-        (void)bf_optim_step(opt, lambda * 0.1, 1.0, run->bound, &bounded, &fallback);
+        bf_optim_step_only(opt, lambda * 0.1, 1.0, run->bound, &bounded, &fallback);
         if (scaled_length(w, p) > 2.0 * last_len) break;
         lambda *= 0.1;
     }
@@ -366,6 +368,7 @@ static brdffit_status load_start(brdffit_optimizer *opt, const double *x)
 {
     bf_optim_work *w = &opt->w;
     size_t j;
+    bf_optim_forget_step(opt);
     for (j = 0; j < opt->n_params; j++) {
         double v = x[j];
         if (v < w->lower[j]) v = w->lower[j];
@@ -466,6 +469,7 @@ static brdffit_status retry(lm_run *run, const double *x, brdffit_stop_reason *s
         return BRDFFIT_OK;
     }
     memcpy(w->x, w->best, opt->n_params * sizeof *w->x);
+    bf_optim_forget_step(opt);
     run->evaluations++;
     (void)bf_optim_eval(opt, w->x, 1, &run->cost, w->jtj, w->g, NULL, 0); /* as before */
     bf_optim_mark_analysed(opt);

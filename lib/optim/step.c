@@ -72,6 +72,7 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
     const bf_optim_work *w = &opt->w;
     size_t j, p = opt->n_params;
     double dmax = 0.0;
+    bf_optim_forget_step(opt);
     for (j = 0; j < p; j++) {
         double a = w->jtj[j * p + j];
         w->amax[j] = set_d0 ? a : fmax(w->amax[j], a);
@@ -106,6 +107,23 @@ static size_t gather_free(bf_optim_work *w, size_t p)
     return nf;
 }
 
+/* Parameter j's diagonal of A + lambda D, the only place lambda enters
+ * the step. */
+static double damped(const bf_optim_work *w, size_t p, size_t j, double lambda)
+{
+    return w->jtj[j * p + j] + lambda * w->d[j];
+}
+
+int bf_optim_same_damping(const brdffit_optimizer *opt, double l1, double l2)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t j, p = opt->n_params;
+    if (l1 == l2) return 1;
+    for (j = 0; j < p; j++)
+        if (!w->fixed[j] && !(damped(w, p, j, l1) == damped(w, p, j, l2))) return 0;
+    return 1;
+}
+
 /* Equilibration factors of A + lambda D over the free set. A parameter
  * whose damped diagonal is zero or overflows gets factor 0: no step. */
 static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
@@ -114,7 +132,7 @@ static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
     size_t a, p = opt->n_params;
     for (a = 0; a < nf; a++) {
         size_t j = w->free_idx[a];
-        double mjj = w->jtj[j * p + j] + lambda * w->d[j];
+        double mjj = damped(w, p, j, lambda);
         w->scale[a] = mjj > 0.0 && isfinite(mjj) ? 1.0 / sqrt(mjj) : 0.0;
     }
 }
@@ -230,19 +248,45 @@ static double predicted_reduction(const bf_optim_work *w, size_t p)
     return -(2.0 * gs + sas);
 }
 
-double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
-                     int *fallback)
+void bf_optim_forget_step(brdffit_optimizer *opt)
+{
+    opt->memo.valid = 0;
+}
+
+void bf_optim_step_only(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                        int *fallback)
 {
     bf_optim_work *w = &opt->w;
+    bf_step_memo *memo = &opt->memo;
     size_t p = opt->n_params, nf;
+    int used_fallback = 0;
+    if (memo->valid && memo->t == t && memo->bound == bound &&
+        bf_optim_same_damping(opt, memo->lambda, lambda)) {
+        *bounded = memo->bounded;
+        if (memo->fallback) *fallback = 1;
+        return;
+    }
     init_held(opt);
     for (;;) {
         nf = gather_free(w, p);
         if (nf == 0) break;
-        solve_reduced(opt, nf, lambda, fallback);
+        solve_reduced(opt, nf, lambda, &used_fallback);
         if (!hold_outward(w, nf)) break;
     }
     *bounded = nf > 0 && bound_step(w, nf, bound);
     project_trial(w, p, nf, t);
-    return predicted_reduction(w, p);
+    if (used_fallback) *fallback = 1;
+    memo->lambda = lambda;
+    memo->t = t;
+    memo->bound = bound;
+    memo->bounded = *bounded;
+    memo->fallback = used_fallback;
+    memo->valid = !bf_optim_stopped(opt); /* a cancelled solve left no step */
+}
+
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                     int *fallback)
+{
+    bf_optim_step_only(opt, lambda, t, bound, bounded, fallback);
+    return predicted_reduction(&opt->w, opt->n_params);
 }
