@@ -87,6 +87,11 @@ typedef struct bf_optim_work {
 typedef struct bf_step_memo {
     double lambda, t, bound;
     int valid, bounded, fallback;
+    /* the smallest pivot of the equilibrated Cholesky factor when the
+     * step is the damped system's solution itself (no parameter held on
+     * a bound by its sign, no bound on the step, no projection onto the
+     * box, no eigen fallback); else 0 */
+    double pivot;
 } bf_step_memo;
 
 struct brdffit_optimizer {

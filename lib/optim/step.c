@@ -157,7 +157,8 @@ static int stop_requested(const void *ctx)
 
 /* delta (nf values) = -(A + lambda D)^-1 g over the free set; 0 (no step)
  * when a cancel stopped the solve. */
-static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback)
+static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback,
+                          double *pivot)
 {
     bf_optim_work *w = &opt->w;
     const bf_stop stop = {stop_requested, opt};
@@ -167,7 +168,10 @@ static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int 
     build_scaled(opt, nf);
     for (a = 0; a < nf; a++) w->delta[a] = -w->g[w->free_idx[a]] * w->scale[a];
     factored = bf_cholesky_until(w->m, nf, BF_LINALG_RTOL, &stop);
+    *pivot = 0.0;
     if (factored == 1) {
+        *pivot = HUGE_VAL;
+        for (a = 0; a < nf; a++) *pivot = fmin(*pivot, w->m[a * nf + a] * w->m[a * nf + a]);
         bf_cholesky_solve(w->m, nf, w->delta);
     } else if (factored == 0) {
         *fallback = 1;
@@ -214,20 +218,23 @@ static int bound_step(bf_optim_work *w, size_t nf, double bound)
     return 1;
 }
 
-/* trial = P(x + t delta), step = trial - x. */
-static void project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
+/* trial = P(x + t delta), step = trial - x. Returns whether the
+ * projection moved a value. */
+static int project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
 {
     size_t a, j;
+    int clipped = 0;
     memcpy(w->trial, w->x, p * sizeof *w->trial);
     for (a = 0; a < nf; a++) {
         double v;
         j = w->free_idx[a];
         v = w->x[j] + t * w->delta[a];
-        if (v < w->lower[j]) v = w->lower[j];
-        if (v > w->upper[j]) v = w->upper[j];
+        if (v < w->lower[j]) v = w->lower[j], clipped = 1;
+        if (v > w->upper[j]) v = w->upper[j], clipped = 1;
         w->trial[j] = v;
     }
     for (j = 0; j < p; j++) w->step[j] = w->trial[j] - w->x[j];
+    return clipped;
 }
 
 /* Predicted reduction of the linear model for step s:
@@ -266,16 +273,20 @@ void bf_optim_step_only(brdffit_optimizer *opt, double lambda, double t, double 
         if (memo->fallback) *fallback = 1;
         return;
     }
+    double pivot = 0.0;
+    int rounds = 0, clipped;
     init_held(opt);
     for (;;) {
         nf = gather_free(w, p);
         if (nf == 0) break;
-        solve_reduced(opt, nf, lambda, &used_fallback);
+        solve_reduced(opt, nf, lambda, &used_fallback, &pivot);
+        rounds++;
         if (!hold_outward(w, nf)) break;
     }
     *bounded = nf > 0 && bound_step(w, nf, bound);
-    project_trial(w, p, nf, t);
+    clipped = project_trial(w, p, nf, t);
     if (used_fallback) *fallback = 1;
+    memo->pivot = rounds == 1 && !*bounded && !clipped && !used_fallback ? pivot : 0.0;
     memo->lambda = lambda;
     memo->t = t;
     memo->bound = bound;
