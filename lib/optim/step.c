@@ -137,16 +137,18 @@ static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
     }
 }
 
-/* m = S (A + lambda D) S over the free set; unit diagonal by construction. */
-static void build_scaled(brdffit_optimizer *opt, size_t nf)
+/* m = S (A + lambda D) S over the free set; unit diagonal by construction.
+ * With lower, the lower triangle and the diagonal only (all Cholesky reads). */
+static void build_scaled(brdffit_optimizer *opt, size_t nf, int lower)
 {
     bf_optim_work *w = &opt->w;
     size_t a, b, p = opt->n_params;
     for (a = 0; a < nf; a++) {
         const double *arow = w->jtj + w->free_idx[a] * p;
         double *mrow = w->m + a * nf;
-        for (b = 0; b < nf; b++)
-            mrow[b] = a == b ? 1.0 : arow[w->free_idx[b]] * w->scale[a] * w->scale[b];
+        size_t end = lower ? a : nf;
+        for (b = 0; b < end; b++) mrow[b] = arow[w->free_idx[b]] * w->scale[a] * w->scale[b];
+        mrow[a] = 1.0;
     }
 }
 
@@ -165,7 +167,7 @@ static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int 
     size_t a;
     int factored;
     equilibrate(opt, nf, lambda);
-    build_scaled(opt, nf);
+    build_scaled(opt, nf, 1);
     for (a = 0; a < nf; a++) w->delta[a] = -w->g[w->free_idx[a]] * w->scale[a];
     factored = bf_cholesky_until(w->m, nf, BF_LINALG_RTOL, &stop);
     *pivot = 0.0;
@@ -175,7 +177,7 @@ static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int 
         bf_cholesky_solve(w->m, nf, w->delta);
     } else if (factored == 0) {
         *fallback = 1;
-        build_scaled(opt, nf);
+        build_scaled(opt, nf, 0);
         if (bf_sym_eigen_until(w->m, nf, w->w, w->v, &stop) >= 0)
             bf_eigen_pinv_solve(w->w, w->v, nf, BF_LINALG_RTOL, w->delta, w->delta, w->tmp);
         else
