@@ -268,15 +268,14 @@ void bf_optim_step_only(brdffit_optimizer *opt, double lambda, double t, double 
     bf_optim_work *w = &opt->w;
     bf_step_memo *memo = &opt->memo;
     size_t p = opt->n_params, nf;
-    int used_fallback = 0;
+    double pivot = 0.0;
+    int used_fallback = 0, rounds = 0, clipped;
     if (memo->valid && memo->t == t && memo->bound == bound &&
         bf_optim_same_damping(opt, memo->lambda, lambda)) {
         *bounded = memo->bounded;
         if (memo->fallback) *fallback = 1;
         return;
     }
-    double pivot = 0.0;
-    int rounds = 0, clipped;
     init_held(opt);
     for (;;) {
         nf = gather_free(w, p);
