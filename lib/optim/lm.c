@@ -225,7 +225,7 @@ static double raise_lambda(lm_run *run, double lambda, double target, int nonzer
     if (!(target > 0.0)) return lambda;
     for (k = 0; k < 60; k++) {
         double len;
-        (void)bf_optim_step(opt, lambda, 1.0, run->bound, &bounded, &fallback);
+        bf_optim_step_only(opt, lambda, 1.0, run->bound, &bounded, &fallback);
         len = masked_length(w, p, nonzero);
         if (!(len > target) || lambda >= BF_LAMBDA_MAX) break;
         lambda = fmin(BF_LAMBDA_MAX, lambda * fmax(2.0, len / target));
@@ -269,19 +269,63 @@ static double start_lambda(lm_run *run, double lambda)
     return raise_lambda(run, lambda, radius * sqrt(len), 1);
 }
 
+/* The margin of reaches_all(): relative to the lengths, and the smallest
+ * pivot of the equilibrated factor (at most 1) it trusts. */
+#define BF_GROW_MARGIN 1e-6
+#define BF_GROW_PIVOT 1e-6
+
+/* Whether every lambda from low up to the current one gives a step no
+ * longer than limit, known from the step at low alone: that step is the
+ * damped system's own solution, from a well-conditioned factor, shorter
+ * than limit by the margin; and no step of length up to its own can meet
+ * the box or the step bound, nor can a parameter on a bound be held by
+ * the sign of its step. Then every step for a larger lambda is the
+ * damped system's solution too, and no longer (the length of the
+ * solution of (A + lambda D) delta = -g in the scaling D falls as lambda
+ * grows), so each of them passes the test as the step at low does. */
+static int reaches_all(lm_run *run, double low, double limit)
+{
+    brdffit_optimizer *opt = run->opt;
+    const bf_optim_work *w = &opt->w;
+    size_t j, p = opt->n_params;
+    int bounded = 0, fallback = 0;
+    double len, reach;
+    bf_optim_step_only(opt, low, 1.0, run->bound, &bounded, &fallback);
+    len = scaled_length(w, p);
+    if (!(opt->memo.pivot >= BF_GROW_PIVOT) || !(len <= limit * (1.0 - BF_GROW_MARGIN))) return 0;
+    for (j = 0; j < p; j++) {
+        double x = w->x[j], g = w->g[j];
+        if (w->fixed[j] || (x <= w->lower[j] && g > 0.0) || (x >= w->upper[j] && g < 0.0))
+            continue;                                         /* held whatever lambda */
+        reach = len * (1.0 + BF_GROW_MARGIN) / sqrt(w->d[j]); /* the most |step_j| can be */
+        if (!(x - reach > w->lower[j] && x + reach < w->upper[j])) return 0;
+        if (w->xscale[j] > 0.0 && !(reach <= run->bound * (1.0 - BF_GROW_MARGIN) * w->xscale[j]))
+            return 0;
+    }
+    return 1;
+}
+
 /* Step control (BRDFFIT_OPT_STEP_CONTROL), after a very successful step
  * (rho > 0.75): lower lambda by factors of 10 while the step from the new
  * point stays within twice the scaled length of the step just taken
- * (MINPACK doubles its trust radius so). Returns the new lambda, at most
- * lambda. */
+ * (MINPACK doubles its trust radius so), at most 16 times. When the
+ * lowest lambda that walk can reach is known to pass with every one
+ * above it (reaches_all(), near a minimum: one solve in place of 16), it
+ * is taken at once. Once a tenth of lambda leaves every damped diagonal
+ * as it was, the step is the last one solved and is not solved again
+ * (bf_optim_step_only() keeps it for the next iteration too). Returns
+ * the new lambda, at most lambda. */
 static double grow_lambda(lm_run *run, double lambda, double last_len)
 {
     brdffit_optimizer *opt = run->opt;
     const bf_optim_work *w = &opt->w;
     size_t k, p = opt->n_params;
     int bounded = 0, fallback = 0;
+    double low = lambda;
+    for (k = 0; k < 16 && low > BF_LAMBDA_MIN * 10.0; k++) low *= 0.1;
+    if (k > 1 && reaches_all(run, low, 2.0 * last_len)) return low;
     for (k = 0; k < 16 && lambda > BF_LAMBDA_MIN * 10.0; k++) {
-        (void)bf_optim_step(opt, lambda * 0.1, 1.0, run->bound, &bounded, &fallback);
+        bf_optim_step_only(opt, lambda * 0.1, 1.0, run->bound, &bounded, &fallback);
         if (scaled_length(w, p) > 2.0 * last_len) break;
         lambda *= 0.1;
     }
@@ -366,6 +410,7 @@ static brdffit_status load_start(brdffit_optimizer *opt, const double *x)
 {
     bf_optim_work *w = &opt->w;
     size_t j;
+    bf_optim_forget_step(opt);
     for (j = 0; j < opt->n_params; j++) {
         double v = x[j];
         if (v < w->lower[j]) v = w->lower[j];
@@ -466,6 +511,7 @@ static brdffit_status retry(lm_run *run, const double *x, brdffit_stop_reason *s
         return BRDFFIT_OK;
     }
     memcpy(w->x, w->best, opt->n_params * sizeof *w->x);
+    bf_optim_forget_step(opt);
     run->evaluations++;
     (void)bf_optim_eval(opt, w->x, 1, &run->cost, w->jtj, w->g, NULL, 0); /* as before */
     bf_optim_mark_analysed(opt);

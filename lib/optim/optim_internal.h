@@ -81,6 +81,19 @@ typedef struct bf_optim_work {
     unsigned char *analysed; /* after a run: neither fixed nor on a bound */
 } bf_optim_work;
 
+/* The last step computed (step.c): its arguments, and what it reported;
+ * valid until the point, J^T J, J^T r or the scaling D change
+ * (bf_optim_forget_step()). */
+typedef struct bf_step_memo {
+    double lambda, t, bound;
+    int valid, bounded, fallback;
+    /* the smallest pivot of the equilibrated Cholesky factor when the
+     * step is the damped system's solution itself (no parameter held on
+     * a bound by its sign, no bound on the step, no projection onto the
+     * box, no eigen fallback); else 0 */
+    double pivot;
+} bf_step_memo;
+
 struct brdffit_optimizer {
     uint32_t magic;
     brdffit_allocator alloc;
@@ -106,6 +119,7 @@ struct brdffit_optimizer {
 
     void *block; /* the workspace block */
     bf_optim_work w;
+    bf_step_memo memo; /* the step in w.trial and w.step */
     double *history; /* cost[history_cap] then lambda[history_cap] */
     size_t history_cap;
 
@@ -156,6 +170,23 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0);
  * *fallback when the eigen-decomposition replaced Cholesky. */
 double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
                      int *fallback);
+
+/* step.c: bf_optim_step() without the predicted reduction (the step
+ * searches of lm.c look at the step's length only). A step asked for
+ * again with the same arguments (a lambda of the same damping,
+ * bf_optim_same_damping()) is not solved again: the step searches leave
+ * the one for the lambda they choose, which the next iteration takes. */
+void bf_optim_step_only(brdffit_optimizer *opt, double lambda, double t, double bound,
+                        int *bounded, int *fallback);
+
+/* step.c: lambdas l1 and l2 give every parameter that is not fixed the
+ * same diagonal of A + lambda D, to the bit, and so the same step (at a
+ * small lambda against diag(A) a tenth of it changes nothing). */
+int bf_optim_same_damping(const brdffit_optimizer *opt, double l1, double l2);
+
+/* step.c: the point, J^T J, J^T r or D changed: the step in w.trial and
+ * w.step is no longer the one for the current arguments. */
+void bf_optim_forget_step(brdffit_optimizer *opt);
 
 /* step.c: whether parameter j sits on its lower or upper bound. */
 int bf_optim_on_bound(const brdffit_optimizer *opt, size_t j, const double *x);

@@ -72,6 +72,7 @@ void bf_optim_update_scaling(brdffit_optimizer *opt, int set_d0)
     const bf_optim_work *w = &opt->w;
     size_t j, p = opt->n_params;
     double dmax = 0.0;
+    bf_optim_forget_step(opt);
     for (j = 0; j < p; j++) {
         double a = w->jtj[j * p + j];
         w->amax[j] = set_d0 ? a : fmax(w->amax[j], a);
@@ -106,6 +107,23 @@ static size_t gather_free(bf_optim_work *w, size_t p)
     return nf;
 }
 
+/* Parameter j's diagonal of A + lambda D, the only place lambda enters
+ * the step. */
+static double damped(const bf_optim_work *w, size_t p, size_t j, double lambda)
+{
+    return w->jtj[j * p + j] + lambda * w->d[j];
+}
+
+int bf_optim_same_damping(const brdffit_optimizer *opt, double l1, double l2)
+{
+    const bf_optim_work *w = &opt->w;
+    size_t j, p = opt->n_params;
+    if (l1 == l2) return 1;
+    for (j = 0; j < p; j++)
+        if (!w->fixed[j] && !(damped(w, p, j, l1) == damped(w, p, j, l2))) return 0;
+    return 1;
+}
+
 /* Equilibration factors of A + lambda D over the free set. A parameter
  * whose damped diagonal is zero or overflows gets factor 0: no step. */
 static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
@@ -114,21 +132,23 @@ static void equilibrate(brdffit_optimizer *opt, size_t nf, double lambda)
     size_t a, p = opt->n_params;
     for (a = 0; a < nf; a++) {
         size_t j = w->free_idx[a];
-        double mjj = w->jtj[j * p + j] + lambda * w->d[j];
+        double mjj = damped(w, p, j, lambda);
         w->scale[a] = mjj > 0.0 && isfinite(mjj) ? 1.0 / sqrt(mjj) : 0.0;
     }
 }
 
-/* m = S (A + lambda D) S over the free set; unit diagonal by construction. */
-static void build_scaled(brdffit_optimizer *opt, size_t nf)
+/* m = S (A + lambda D) S over the free set; unit diagonal by construction.
+ * With lower, the lower triangle and the diagonal only (all Cholesky reads). */
+static void build_scaled(brdffit_optimizer *opt, size_t nf, int lower)
 {
     bf_optim_work *w = &opt->w;
     size_t a, b, p = opt->n_params;
     for (a = 0; a < nf; a++) {
         const double *arow = w->jtj + w->free_idx[a] * p;
         double *mrow = w->m + a * nf;
-        for (b = 0; b < nf; b++)
-            mrow[b] = a == b ? 1.0 : arow[w->free_idx[b]] * w->scale[a] * w->scale[b];
+        size_t end = lower ? a : nf;
+        for (b = 0; b < end; b++) mrow[b] = arow[w->free_idx[b]] * w->scale[a] * w->scale[b];
+        mrow[a] = 1.0;
     }
 }
 
@@ -139,21 +159,25 @@ static int stop_requested(const void *ctx)
 
 /* delta (nf values) = -(A + lambda D)^-1 g over the free set; 0 (no step)
  * when a cancel stopped the solve. */
-static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback)
+static void solve_reduced(brdffit_optimizer *opt, size_t nf, double lambda, int *fallback,
+                          double *pivot)
 {
     bf_optim_work *w = &opt->w;
     const bf_stop stop = {stop_requested, opt};
     size_t a;
     int factored;
     equilibrate(opt, nf, lambda);
-    build_scaled(opt, nf);
+    build_scaled(opt, nf, 1);
     for (a = 0; a < nf; a++) w->delta[a] = -w->g[w->free_idx[a]] * w->scale[a];
     factored = bf_cholesky_until(w->m, nf, BF_LINALG_RTOL, &stop);
+    *pivot = 0.0;
     if (factored == 1) {
+        *pivot = HUGE_VAL;
+        for (a = 0; a < nf; a++) *pivot = fmin(*pivot, w->m[a * nf + a] * w->m[a * nf + a]);
         bf_cholesky_solve(w->m, nf, w->delta);
     } else if (factored == 0) {
         *fallback = 1;
-        build_scaled(opt, nf);
+        build_scaled(opt, nf, 0);
         if (bf_sym_eigen_until(w->m, nf, w->w, w->v, &stop) >= 0)
             bf_eigen_pinv_solve(w->w, w->v, nf, BF_LINALG_RTOL, w->delta, w->delta, w->tmp);
         else
@@ -196,20 +220,23 @@ static int bound_step(bf_optim_work *w, size_t nf, double bound)
     return 1;
 }
 
-/* trial = P(x + t delta), step = trial - x. */
-static void project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
+/* trial = P(x + t delta), step = trial - x. Returns whether the
+ * projection moved a value. */
+static int project_trial(bf_optim_work *w, size_t p, size_t nf, double t)
 {
     size_t a, j;
+    int clipped = 0;
     memcpy(w->trial, w->x, p * sizeof *w->trial);
     for (a = 0; a < nf; a++) {
         double v;
         j = w->free_idx[a];
         v = w->x[j] + t * w->delta[a];
-        if (v < w->lower[j]) v = w->lower[j];
-        if (v > w->upper[j]) v = w->upper[j];
+        if (v < w->lower[j]) v = w->lower[j], clipped = 1;
+        if (v > w->upper[j]) v = w->upper[j], clipped = 1;
         w->trial[j] = v;
     }
     for (j = 0; j < p; j++) w->step[j] = w->trial[j] - w->x[j];
+    return clipped;
 }
 
 /* Predicted reduction of the linear model for step s:
@@ -230,19 +257,48 @@ static double predicted_reduction(const bf_optim_work *w, size_t p)
     return -(2.0 * gs + sas);
 }
 
-double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
-                     int *fallback)
+void bf_optim_forget_step(brdffit_optimizer *opt)
+{
+    opt->memo.valid = 0;
+}
+
+void bf_optim_step_only(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                        int *fallback)
 {
     bf_optim_work *w = &opt->w;
+    bf_step_memo *memo = &opt->memo;
     size_t p = opt->n_params, nf;
+    double pivot = 0.0;
+    int used_fallback = 0, rounds = 0, clipped;
+    if (memo->valid && memo->t == t && memo->bound == bound &&
+        bf_optim_same_damping(opt, memo->lambda, lambda)) {
+        *bounded = memo->bounded;
+        if (memo->fallback) *fallback = 1;
+        return;
+    }
     init_held(opt);
     for (;;) {
         nf = gather_free(w, p);
         if (nf == 0) break;
-        solve_reduced(opt, nf, lambda, fallback);
+        solve_reduced(opt, nf, lambda, &used_fallback, &pivot);
+        rounds++;
         if (!hold_outward(w, nf)) break;
     }
     *bounded = nf > 0 && bound_step(w, nf, bound);
-    project_trial(w, p, nf, t);
-    return predicted_reduction(w, p);
+    clipped = project_trial(w, p, nf, t);
+    if (used_fallback) *fallback = 1;
+    memo->pivot = rounds == 1 && !*bounded && !clipped && !used_fallback ? pivot : 0.0;
+    memo->lambda = lambda;
+    memo->t = t;
+    memo->bound = bound;
+    memo->bounded = *bounded;
+    memo->fallback = used_fallback;
+    memo->valid = !bf_optim_stopped(opt); /* a cancelled solve left no step */
+}
+
+double bf_optim_step(brdffit_optimizer *opt, double lambda, double t, double bound, int *bounded,
+                     int *fallback)
+{
+    bf_optim_step_only(opt, lambda, t, bound, bounded, fallback);
+    return predicted_reduction(&opt->w, opt->n_params);
 }
