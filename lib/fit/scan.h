@@ -13,10 +13,10 @@
 #define BF_MAX_CANDIDATES 3
 
 typedef struct bf_scan_dim {
-    size_t entry; /* vector entry */
-    int log;      /* scanned in log space */
-    double lo, hi;/* scan coordinates */
-    size_t count; /* grid points */
+    size_t entry;  /* vector entry */
+    int log;       /* scanned in log space */
+    double lo, hi; /* scan coordinates */
+    size_t count;  /* grid points */
 } bf_scan_dim;
 
 typedef struct bf_candidate {
@@ -37,6 +37,9 @@ typedef struct bf_scan {
 /* The scan's dimensions and grid counts for the stage (what
  * bf_scan_run() scans), no candidate yet; returns bf_scan_points(). */
 size_t bf_scan_layout(const bf_stage *st, bf_scan *sc);
+
+/* Scan coordinate of grid point i of dimension d. */
+double bf_scan_coord(const bf_scan_dim *d, size_t i);
 
 /* Grid points of the scan: the product of its counts, 0 without a
  * dimension. */
@@ -64,7 +67,6 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u);
  * evaluating when the fit is cancelled, and HUGE_VAL (st->status and
  * st->err saying why, not traced) where the model fails or gives NaN or
  * Inf: such points are left out of the scan. */
-brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
-                                  double *cost);
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u, double *cost);
 
 #endif
