@@ -13,6 +13,10 @@
 #define LINE_SLACK 0.01
 /* The split lobes' shapes: the lobe's times and divided by this. */
 #define SPLIT_FACTOR 1.1
+/* The best polish is degenerate when a lobe's colour is below this
+ * fraction of the other's, or their shapes within MERGED of each other. */
+#define FAINT 1e-3
+#define MERGED 1.5
 
 /* Vector entry of declared parameter k (channel c for a colour). */
 static size_t entry(const bf_stage *st, size_t k, size_t c)
@@ -83,6 +87,15 @@ static brdffit_status split(bf_stage *st, const bf_lobes *lobes, const double *a
     return BRDFFIT_OK;
 }
 
+/* Whether `at` is degenerate (lobe_starts.h). */
+static int degenerate(const bf_stage *st, const bf_lobes *lobes, const double *at)
+{
+    double c0 = colour_sum(st, &lobes->lobe[0], at), c1 = colour_sum(st, &lobes->lobe[1], at);
+    double s0 = at[entry(st, lobes->lobe[0].shape, 0)], s1 = at[entry(st, lobes->lobe[1].shape, 0)];
+    if (!(c0 > FAINT * c1) || !(c1 > FAINT * c0)) return 1;
+    return s0 > 0.0 && s1 > 0.0 && fmax(s0, s1) < MERGED * fmin(s0, s1);
+}
+
 brdffit_status bf_lobe_starts(bf_stage *st, const bf_scan *sc, const double *at, double cost,
                               double *starts, size_t *n)
 {
@@ -93,6 +106,7 @@ brdffit_status bf_lobe_starts(bf_stage *st, const bf_scan *sc, const double *at,
     if (lobes == NULL || lobes->n != 2 || !lobes->interchangeable) return BRDFFIT_OK;
     for (l = 0; l < 2; l++)
         if (scan_dim(sc, entry(st, lobes->lobe[l].shape, 0)) == sc->nd) return BRDFFIT_OK;
+    if (!degenerate(st, lobes, at)) return BRDFFIT_OK;
     for (l = 0; l < 2; l++) BF_RETURN_IF_ERROR(line(st, sc, lobes, l, at, &lowest, starts));
     if (lowest < cost * (1.0 + LINE_SLACK)) (*n)++;
     if (st->run->cancelled) return BRDFFIT_OK;

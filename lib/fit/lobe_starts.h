@@ -15,8 +15,11 @@
 
 /* From `at` (the best polish, st->n natural values, of cost `cost`),
  * the points LM should polish too, into starts (BF_LOBE_STARTS * st->n
- * doubles), their number into *n (0 for any other model, or when either
- * lobe's shape is held):
+ * doubles), their number into *n: 0 for any other model, when either
+ * lobe's shape is held, or unless `at` is degenerate: one lobe's colour
+ * (summed over the channels) below 1e-3 of the other's, or the two shapes
+ * within a factor 1.5 of each other (on data two distinct lobes fit, the
+ * scan's minima find them). The starts:
  * - a line: each lobe's shape in turn over its scan range at twice the
  *   scan's density, the other's held at `at`, every colour solved by the
  *   profile (profile_gn.h); points within one scan step of the lobe's own
