@@ -10,7 +10,6 @@
 #include "fit/plausible.h"
 #include "fit/profile_gn.h"
 #include "fit/varpro.h"
-#include "models/lobes.h"
 
 /* Scan coordinates of a shared, free, non-linear parameter's range. */
 static void dim_range(const bf_stage *st, size_t e, bf_scan_dim *d)
@@ -186,34 +185,12 @@ static brdffit_status scan_grid(bf_stage *st, const bf_scan *sc, double *f, size
     return BRDFFIT_OK;
 }
 
-/* The scan dimensions of the shapes of two interchangeable lobes
- * (lobes.h) scanned over one range, into *a and *b: the cost is the same
- * at a point and at its twin with the two coordinates swapped. */
-static int twin_dims(const bf_stage *st, const bf_scan *sc, size_t *a, size_t *b)
-{
-    const bf_lobes *lobes = bf_model_lobes(st->pb.model);
-    size_t d, found[2] = {BF_MAX_DIMS, BF_MAX_DIMS}, l;
-    if (lobes == NULL || lobes->n != 2 || !lobes->interchangeable) return 0;
-    for (d = 0; d < sc->nd; d++)
-        for (l = 0; l < 2; l++)
-            if (st->decl[sc->dims[d].entry] == lobes->lobe[l].shape) found[l] = d;
-    if (found[0] == BF_MAX_DIMS || found[1] == BF_MAX_DIMS) return 0;
-    *a = found[0];
-    *b = found[1];
-    return sc->dims[*a].lo == sc->dims[*b].lo && sc->dims[*a].hi == sc->dims[*b].hi &&
-           sc->dims[*a].count == sc->dims[*b].count;
-}
-
-/* The profile cost at every grid point, and the best local minima: of
- * two twins (twin_dims()), only the one with the first lobe's coordinate
- * no larger, so that the candidates are distinct minima. */
+/* The profile cost at every grid point, and the best local minima. */
 static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
 {
     const brdffit_allocator *a = &st->run->fit->alloc;
     size_t total = bf_scan_points(sc), flat;
     double *f, u[BF_MAX_DIMS];
-    size_t ta = 0, tb = 0;
-    int twins = twin_dims(st, sc, &ta, &tb);
     brdffit_status status;
     f = bf_calloc(a, total + st->n, sizeof *f); /* the costs, then the warm start */
     if (f == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
@@ -223,7 +200,6 @@ static brdffit_status find_candidates(bf_stage *st, bf_scan *sc)
     for (flat = 0; status == BRDFFIT_OK && flat < total; flat++) {
         if (!(f[flat] < HUGE_VAL) || !is_local_min(f, sc->dims, sc->nd, flat)) continue;
         flat_to_u(sc->dims, sc->nd, flat, u);
-        if (twins && u[ta] > u[tb]) continue;
         keep_candidate(sc, f[flat], u);
     }
     bf_free(a, f);
@@ -266,8 +242,8 @@ brdffit_status bf_scan_run(bf_stage *st, bf_scan *sc)
 /* One golden-section step on [a, b] with interior points x1 < x2: the
  * bracket shrinks towards the lower of f1, f2 and one new point is
  * evaluated. */
-static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b, double *x1,
-                                  double *x2, double *f1, double *f2)
+static brdffit_status golden_step(bf_stage *st, const bf_scan *sc, double *a, double *b,
+                                  double *x1, double *x2, double *f1, double *f2)
 {
     const double g = 0.3819660112501051;
     if (*f1 <= *f2) {
