@@ -13,10 +13,10 @@
 #define BF_MAX_CANDIDATES 3
 
 typedef struct bf_scan_dim {
-    size_t entry;  /* vector entry */
-    int log;       /* scanned in log space */
-    double lo, hi; /* scan coordinates */
-    size_t count;  /* grid points */
+    size_t entry; /* vector entry */
+    int log;      /* scanned in log space */
+    double lo, hi;/* scan coordinates */
+    size_t count; /* grid points */
 } bf_scan_dim;
 
 typedef struct bf_candidate {
@@ -67,6 +67,7 @@ void bf_scan_set_point(bf_stage *st, const bf_scan *sc, const double *u);
  * evaluating when the fit is cancelled, and HUGE_VAL (st->status and
  * st->err saying why, not traced) where the model fails or gives NaN or
  * Inf: such points are left out of the scan. */
-brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u, double *cost);
+brdffit_status bf_scan_profile_at(bf_stage *st, const bf_scan *sc, const double *u,
+                                  double *cost);
 
 #endif
