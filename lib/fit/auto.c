@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "fit/lobe_starts.h"
 #include "fit/pipelines.h"
 #include "fit/plausible.h"
 #include "fit/profile_gn.h"
@@ -111,6 +112,28 @@ static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *bes
     return keep_if_best(st, best, work);
 }
 
+/* The polishes from two lobes' further starts (lobe_starts.h), labelled
+ * with the number of candidates plus 1 and 2. `work` has 3 n doubles. */
+static brdffit_status lobe_polish(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
+{
+    const brdffit_allocator *a = &st->run->fit->alloc;
+    double *starts = bf_calloc(a, (BF_LOBE_STARTS + 1) * st->n, sizeof *starts);
+    size_t n = 0, i;
+    brdffit_status status;
+    if (starts == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
+    memcpy(starts + BF_LOBE_STARTS * st->n, st->run->result->params, st->n * sizeof *starts);
+    status = bf_lobe_starts(st, sc, starts + BF_LOBE_STARTS * st->n, best->cost, starts, &n);
+    for (i = 0; i < n && status == BRDFFIT_OK && !st->run->cancelled; i++) {
+        st->kind = BRDFFIT_STAGE_POLISH;
+        st->label = sc->n_best + 1 + i;
+        status = bf_stage_lm(st, starts + i * st->n, work, work + st->n);
+        if (status == BRDFFIT_OK) status = rebound(st, work);
+        if (status == BRDFFIT_OK) status = keep_if_best(st, best, work);
+    }
+    bf_free(a, starts);
+    return status;
+}
+
 /* A cancel during the scan: the best point seen so far, unpolished. */
 static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
 {
@@ -151,6 +174,7 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
     for (i = 0; i < n_polish && status == BRDFFIT_OK && !st->run->cancelled; i++)
         status = polish(st, sc, i, &best, work);
     if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = repolish(st, sc, &best, work);
+    if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = lobe_polish(st, sc, &best, work);
     if (status == BRDFFIT_OK && !(best.cost < HUGE_VAL))
         status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
     bf_free(a, work);

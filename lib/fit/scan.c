@@ -70,7 +70,7 @@ static void choose_counts(bf_scan_dim *dims, size_t nd)
     }
 }
 
-static double grid_coord(const bf_scan_dim *d, size_t i)
+double bf_scan_coord(const bf_scan_dim *d, size_t i)
 {
     return d->lo + (d->hi - d->lo) * (double)i / (double)(d->count - 1);
 }
@@ -162,7 +162,7 @@ static void flat_to_u(const bf_scan_dim *dims, size_t nd, size_t flat, double *u
 {
     size_t d;
     for (d = 0; d < nd; d++) {
-        u[d] = grid_coord(&dims[d], flat % dims[d].count);
+        u[d] = bf_scan_coord(&dims[d], flat % dims[d].count);
         flat /= dims[d].count;
     }
 }

@@ -38,6 +38,9 @@ typedef struct bf_scan {
  * bf_scan_run() scans), no candidate yet; returns bf_scan_points(). */
 size_t bf_scan_layout(const bf_stage *st, bf_scan *sc);
 
+/* Scan coordinate of grid point i of dimension d. */
+double bf_scan_coord(const bf_scan_dim *d, size_t i);
+
 /* Grid points of the scan: the product of its counts, 0 without a
  * dimension. */
 size_t bf_scan_points(const bf_scan *sc);
