@@ -22,8 +22,9 @@
 /* The mean's three sums (summary.h): E's numerator, e's, the cost. */
 enum { E_SUM, PLAIN_SUM, COST_SUM, N_SUMS };
 
-/* The sums of one sweep. */
-#define J_MAX (GROUP * N_SUMS)
+/* Channels whose sums one loop adds side by side, and the sums. */
+#define LANES 4
+#define J_LANES (LANES * N_SUMS)
 
 /* Weighted count, mean and squared deviation about the mean. */
 typedef struct moments {
@@ -41,94 +42,139 @@ static void merge(moments *a, const moments *b)
     a->w = w;
 }
 
-/* The sums' moments of a chunk of n samples for J = nc N_SUMS sums at
- * once: sum j's weights a[s][j] (0 = left out) and values r[s][j], each
- * sum added up in sample order as a sum alone would be (the same bits),
- * the sums side by side so that their additions overlap and vectorise. */
-static void chunk_moments(const double (*a)[J_MAX], const double (*r)[J_MAX], size_t n, size_t J,
-                          moments *m)
-{
-    double w[J_MAX] = {0.0}, s1[J_MAX] = {0.0}, mean[J_MAX] = {0.0}, m2[J_MAX] = {0.0};
-    size_t s, j;
-    for (s = 0; s < n; s++)
-        for (j = 0; j < J; j++) {
-            w[j] += a[s][j];
-            s1[j] += a[s][j] * r[s][j];
-        }
-    for (j = 0; j < J; j++)
-        if (w[j] > 0.0) mean[j] = s1[j] / w[j];
-    for (s = 0; s < n; s++)
-        for (j = 0; j < J; j++) {
-            double d = r[s][j] - mean[j];
-            m2[j] += a[s][j] * d * d;
-        }
-    for (j = 0; j < J; j++) {
-        m[j].w = w[j];
-        m[j].mean = mean[j];
-        m[j].m2 = w[j] > 0.0 ? m2[j] : 0.0;
-    }
-}
-
 /* A block of chunks' sweep over the channels c0 .. c0 + nc - 1
  * (nc <= GROUP): the moments of each channel and sum, the largest value,
  * and the counts (of samples with c0 = 0 only). */
 typedef struct block {
     const bf_run *run;
     size_t c0, nc, chunk_begin, chunk_end;
-    moments out[J_MAX]; /* channel c's sum k at c N_SUMS + k */
+    moments out[GROUP * N_SUMS]; /* channel c's sum k at c N_SUMS + k */
     double top;
     size_t on[2], rows[2];
 } block;
 
-/* Chunk ci: the weights of both plans and the geometry once, then every
- * channel of the group. A value counts in the solid-angle plan's sums
- * (E's and e's) where that plan's weight is non-zero and the value
- * present, in the cost where the residual weight is; elsewhere it and its
- * weight are 0. */
-static void sweep_chunk(block *b, size_t ci)
+/* A chunk's weights and values for LANES channels side by side: a value
+ * counts in the solid-angle plan's sums (E's and e's) where that plan's
+ * weight is non-zero and the value present, in the cost where the
+ * residual weight is; elsewhere it and its weight are 0. */
+typedef struct chunk {
+    size_t first, n, on[2];      /* on: samples with a non-zero weight, of each plan */
+    double w[2][BF_CHUNK];       /* the plans' weights ([0] the residual plan) */
+    double aw[N_SUMS][BF_CHUNK]; /* sum k's weight of a present value */
+    double dv[BF_CHUNK];         /* the clear-coat divisors (1 without) */
+    double a[BF_CHUNK][J_LANES]; /* sum k's weight in lane l at k LANES + l */
+    double r[BF_CHUNK][J_LANES]; /* and its value */
+} chunk;
+
+/* The sums' moments of the chunk, m[k LANES + l]. Each sum is added up in
+ * sample order, as a sum alone would be (the same bits); side by side,
+ * their additions overlap and vectorise. */
+BF_VECTOR_CLONES static void chunk_moments(const chunk *ch, moments *m)
 {
-    const brdffit_fit *fit = b->run->fit;
-    const brdffit_grid *g = fit->grid;
-    const int missing = bf_grid_has_missing(g), coat = fit->clearcoat > 0.0;
-    double w[2][BF_CHUNK], aw[N_SUMS][BF_CHUNK], dv[BF_CHUNK], meas[BF_CHUNK], pres[BF_CHUNK];
-    double a[BF_CHUNK][J_MAX], r[BF_CHUNK][J_MAX];
-    moments m[J_MAX];
-    size_t c, s, k, first, n;
-    brdffit_batch batch;
-    bf_weight_plan_chunk(&b->run->plan, ci, &first, &n, w[0]);
-    bf_weight_plan_chunk(&b->run->plan_sa, ci, &first, &n, w[1]);
-    bf_grid_batch(g, first, n, &batch);
-    for (s = 0; s < n; s++) {
-        double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0;
-        aw[E_SUM][s] = w[1][s] != 0.0 ? w[1][s] * cz * cz : 0.0;
-        aw[PLAIN_SUM][s] = w[1][s] != 0.0 ? 1.0 : 0.0;
-        aw[COST_SUM][s] = w[0][s] != 0.0 ? w[0][s] * w[0][s] : 0.0;
-        dv[s] = coat ? bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]) : 1.0;
-    }
-    if (b->c0 == 0)
-        for (s = 0; s < n; s++) {
-            b->on[0] += w[0][s] != 0.0;
-            b->on[1] += w[1][s] != 0.0;
+    double w[J_LANES] = {0.0}, s1[J_LANES] = {0.0}, mean[J_LANES] = {0.0}, m2[J_LANES] = {0.0};
+    size_t s, j;
+    for (s = 0; s < ch->n; s++)
+        for (j = 0; j < J_LANES; j++) {
+            w[j] += ch->a[s][j];
+            s1[j] += ch->a[s][j] * ch->r[s][j];
         }
-    for (c = 0; c < b->nc; c++) {
-        const double *v = bf_grid_values(g, b->c0 + c) + first;
-        double *col = &a[0][c * N_SUMS], *rol = &r[0][c * N_SUMS];
-        if (missing) bf_grid_load_channel(g, b->c0 + c, first, n, meas, pres);
+    for (j = 0; j < J_LANES; j++)
+        if (w[j] > 0.0) mean[j] = s1[j] / w[j];
+    for (s = 0; s < ch->n; s++)
+        for (j = 0; j < J_LANES; j++) {
+            double d = ch->r[s][j] - mean[j];
+            m2[j] += ch->a[s][j] * d * d;
+        }
+    for (j = 0; j < J_LANES; j++) {
+        m[j].w = w[j];
+        m[j].mean = mean[j];
+        m[j].m2 = w[j] > 0.0 ? m2[j] : 0.0;
+    }
+}
+
+/* Fill ch->r (and ch->a with missing values; without, sweep_chunk() fills
+ * it once for every lane) for the channels c0 .. c0 + nc - 1
+ * (nc <= LANES), counting their rows and largest value into b. Lanes
+ * without a channel hold values 0 (their moments are not used). */
+BF_VECTOR_CLONES static void fill_lanes(block *b, chunk *ch, size_t c0, size_t nc, int missing)
+{
+    const brdffit_grid *g = b->run->fit->grid;
+    double meas[BF_CHUNK], pres[BF_CHUNK];
+    size_t l, s, k, n = ch->n;
+    for (l = nc; l < LANES; l++)
+        for (s = 0; s < n; s++)
+            for (k = 0; k < N_SUMS; k++) ch->r[s][k * LANES + l] = 0.0;
+    for (l = 0; l < nc; l++) {
+        const double *v = bf_grid_values(g, c0 + l) + ch->first;
+        double top = b->top;
+        if (!missing) {
+            for (s = 0; s < n; s++) {
+                double x = v[s], y = x / ch->dv[s];
+                top = x > top ? x : top;
+                ch->r[s][E_SUM * LANES + l] = ch->r[s][PLAIN_SUM * LANES + l] =
+                    ch->w[1][s] != 0.0 ? y : 0.0;
+                ch->r[s][COST_SUM * LANES + l] = ch->w[0][s] != 0.0 ? y : 0.0;
+            }
+            b->rows[0] += ch->on[0];
+            b->rows[1] += ch->on[1];
+            b->top = top;
+            continue;
+        }
+        bf_grid_load_channel(g, c0 + l, ch->first, n, meas, pres);
         for (s = 0; s < n; s++) {
-            int here = !missing || pres[s] != 0.0;
-            int on = here && w[0][s] != 0.0, on_sa = here && w[1][s] != 0.0;
-            double x = v[s];
-            b->top = x > b->top ? x : b->top;
+            const int here = pres[s] != 0.0;
+            const int on = here && ch->w[0][s] != 0.0, on_sa = here && ch->w[1][s] != 0.0;
+            double x = v[s], y = x / ch->dv[s];
+            top = x > top ? x : top;
             b->rows[0] += (size_t)on;
             b->rows[1] += (size_t)on_sa;
-            if (coat && (on || on_sa)) x /= dv[s];
-            for (k = 0; k < N_SUMS; k++) col[s * J_MAX + k] = here ? aw[k][s] : 0.0;
-            rol[s * J_MAX + E_SUM] = rol[s * J_MAX + PLAIN_SUM] = on_sa ? x : 0.0;
-            rol[s * J_MAX + COST_SUM] = on ? x : 0.0;
+            for (k = 0; k < N_SUMS; k++) ch->a[s][k * LANES + l] = here ? ch->aw[k][s] : 0.0;
+            ch->r[s][E_SUM * LANES + l] = ch->r[s][PLAIN_SUM * LANES + l] = on_sa ? y : 0.0;
+            ch->r[s][COST_SUM * LANES + l] = on ? y : 0.0;
         }
+        b->top = top;
     }
-    chunk_moments((const double(*)[J_MAX])a, (const double(*)[J_MAX])r, n, b->nc * N_SUMS, m);
-    for (k = 0; k < b->nc * N_SUMS; k++) merge(&b->out[k], &m[k]);
+}
+
+/* Chunk ci: the weights of both plans and the geometry once, then the
+ * group's channels, LANES at a time. */
+BF_VECTOR_CLONES static void sweep_chunk(block *b, size_t ci)
+{
+    const brdffit_fit *fit = b->run->fit;
+    const int coat = fit->clearcoat > 0.0, missing = bf_grid_has_missing(fit->grid);
+    chunk ch;
+    moments m[J_LANES];
+    size_t c, s, k, l;
+    brdffit_batch batch;
+    bf_weight_plan_chunk(&b->run->plan, ci, &ch.first, &ch.n, ch.w[0]);
+    bf_weight_plan_chunk(&b->run->plan_sa, ci, &ch.first, &ch.n, ch.w[1]);
+    bf_grid_batch(fit->grid, ch.first, ch.n, &batch);
+    ch.on[0] = ch.on[1] = 0;
+    for (s = 0; s < ch.n; s++) {
+        double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0;
+        ch.aw[E_SUM][s] = ch.w[1][s] != 0.0 ? ch.w[1][s] * cz * cz : 0.0;
+        ch.aw[PLAIN_SUM][s] = ch.w[1][s] != 0.0 ? 1.0 : 0.0;
+        ch.aw[COST_SUM][s] = ch.w[0][s] != 0.0 ? ch.w[0][s] * ch.w[0][s] : 0.0;
+        /* a compensated value is the measured one divided by it; x / 1 is x */
+        ch.dv[s] = coat ? bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]) : 1.0;
+        ch.on[0] += ch.w[0][s] != 0.0;
+        ch.on[1] += ch.w[1][s] != 0.0;
+    }
+    if (b->c0 == 0) {
+        b->on[0] += ch.on[0];
+        b->on[1] += ch.on[1];
+    }
+    if (!missing)
+        for (s = 0; s < ch.n; s++)
+            for (k = 0; k < N_SUMS; k++)
+                for (l = 0; l < LANES; l++) ch.a[s][k * LANES + l] = ch.aw[k][s];
+    for (c = 0; c < b->nc; c += LANES) {
+        size_t nl = b->nc - c < LANES ? b->nc - c : LANES;
+        fill_lanes(b, &ch, b->c0 + c, nl, missing);
+        chunk_moments(&ch, m);
+        for (l = 0; l < nl; l++)
+            for (k = 0; k < N_SUMS; k++) merge(&b->out[(c + l) * N_SUMS + k], &m[k * LANES + l]);
+    }
 }
 
 static void block_task(void *arg, size_t t)
