@@ -103,7 +103,10 @@ BF_VECTOR_CLONES static void fill_lanes(block *b, chunk *ch, size_t c0, size_t n
     size_t l, s, k, n = ch->n;
     for (l = nc; l < LANES; l++)
         for (s = 0; s < n; s++)
-            for (k = 0; k < N_SUMS; k++) ch->r[s][k * LANES + l] = 0.0;
+            for (k = 0; k < N_SUMS; k++) {
+                ch->r[s][k * LANES + l] = 0.0;
+                if (missing) ch->a[s][k * LANES + l] = 0.0;
+            }
     for (l = 0; l < nc; l++) {
         const double *v = bf_grid_values(g, c0 + l) + ch->first;
         double top = b->top;
