@@ -22,7 +22,7 @@ typedef struct bf_run {
     bf_pool pool; /* fit->threads - 1 helpers for every pass of the run */
     bf_result *result;
     bf_summary summary; /* what the run needs of the data alone (summary.h) */
-    double delta;       /* the objective's floor (brdffit_objective) */
+    double delta; /* the objective's floor (brdffit_objective) */
     int cancelled;
     int batch_ready; /* a batch's item products are in fit->batch_work (many_scan.h) */
 } bf_run;
@@ -30,31 +30,31 @@ typedef struct bf_run {
 typedef struct bf_stage {
     bf_run *run;
     bf_problem pb;
-    size_t n;                    /* vector size */
-    size_t *vindex;              /* n_params * nc */
-    size_t *decl;                /* n: declared parameter of each entry */
-    unsigned char *logs;         /* n: optimised in log space */
-    unsigned char *fixed;        /* n: held */
-    double *lower, *upper;       /* n: natural bounds */
-    double *olower, *oupper;     /* n: optimiser-space bounds */
-    double *base;                /* n: natural start / held values */
-    double *p;                   /* n: natural point of the next pass */
-    double *x;                   /* n: optimiser-space point of the LM run */
-    double *shown;               /* n: natural point shown to the user's callback */
-    double *acc;                 /* accumulator of any pass */
-    double *terms;               /* the objective's terms (pb.terms), NULL under squares */
-    double *shape;               /* the shape cache (pb.shape) of auto's colour passes, made
+    size_t n;               /* vector size */
+    size_t *vindex;         /* n_params * nc */
+    size_t *decl;           /* n: declared parameter of each entry */
+    unsigned char *logs;    /* n: optimised in log space */
+    unsigned char *fixed;   /* n: held */
+    double *lower, *upper;  /* n: natural bounds */
+    double *olower, *oupper;/* n: optimiser-space bounds */
+    double *base;           /* n: natural start / held values */
+    double *p;              /* n: natural point of the next pass */
+    double *x;              /* n: optimiser-space point of the LM run */
+    double *shown;          /* n: natural point shown to the user's callback */
+    double *acc;            /* accumulator of any pass */
+    double *terms;          /* the objective's terms (pb.terms), NULL under squares */
+    double *shape;          /* the shape cache (pb.shape) of auto's colour passes, made
                              * by its first profile (profile_gn.h), else NULL */
-    double *cov;                 /* n * n: covariance of the last LM run's result (natural
+    double *cov;            /* n * n: covariance of the last LM run's result (natural
                              * units, as its standard errors); made by bf_stage_lm */
-    double cost;                 /* final cost of the last LM run */
+    double cost;            /* final cost of the last LM run */
     brdffit_fit_stage_kind kind; /* the label of its LM runs in the trace: */
-    size_t label;                /* kind and index (brdffit_fit_stage) */
-    size_t traced;               /* the trace's stage number of the last LM run */
-    brdffit_optimizer *opt;      /* the last LM run's optimizer */
-    size_t scan_point;           /* auto's scan: the grid point whose colours are being solved
+    size_t label;           /* kind and index (brdffit_fit_stage) */
+    size_t traced;          /* the trace's stage number of the last LM run */
+    brdffit_optimizer *opt; /* the last LM run's optimizer */
+    size_t scan_point;      /* auto's scan: the grid point whose colours are being solved
                              * (scan.h), else (size_t)-1 */
-    brdffit_status status;       /* last pass failure, for the message */
+    brdffit_status status;  /* last pass failure, for the message */
     brdffit_error err;
 } bf_stage;
 
