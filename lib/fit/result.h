@@ -22,7 +22,7 @@ typedef struct bf_result {
     brdffit_stop_reason stop;   /* of the final LM run */
     size_t iterations;          /* of the final LM run */
     size_t passes;              /* over the samples, the whole run */
-    double mean_error;          /* E's sum for each channel's best constant (fit/baseline.h) */
+    double mean_error;          /* E's sum for each channel's best constant (fit/summary.h) */
     double mean_plain;          /* e's sum for the same */
     double mean_cost;           /* the squares cost of the same */
     double *history;            /* 2 * history_len: costs then lambdas; owned */

@@ -5,10 +5,10 @@
 #include <string.h>
 
 #include "core/core.h"
-#include "fit/baseline.h"
 #include "fit/canonical.h"
 #include "fit/many_scan.h"
 #include "fit/pipelines.h"
+#include "fit/summary.h"
 
 /* Indexed by brdffit_pipeline. */
 static const bf_pipeline_fn pipelines[] = {bf_pipeline_auto, bf_pipeline_joint,
@@ -67,21 +67,9 @@ static void free_plans(bf_run *run)
 #define BF_FIT_VALUE_MIN 1e-100
 #define BF_FIT_VALUE_MAX 1e100
 
-/* Largest measured value inside the cap (missing values are stored as 0). */
-static double largest_value(const bf_run *run)
-{
-    double w[BF_CHUNK], top = 0.0;
-    size_t ci, first, n;
-    for (ci = 0; ci < run->plan.n_chunks; ci++) {
-        bf_weight_plan_chunk(&run->plan, ci, &first, &n, w);
-        top = fmax(top, bf_grid_largest_value(run->fit->grid, first, n));
-    }
-    return top;
-}
-
 static brdffit_status check_scale(bf_run *run)
 {
-    double top = largest_value(run);
+    double top = run->summary.top;
     if (top == 0.0 || (top >= BF_FIT_VALUE_MIN && top <= BF_FIT_VALUE_MAX)) return BRDFFIT_OK;
     return bf_say(run->result->message, BRDFFIT_E_RANGE,
                   "the largest measured value inside the cap, %g, lies outside [%g, %g]; "
@@ -93,7 +81,7 @@ static brdffit_status check_scale(bf_run *run)
  * missing (or the cap leaves no sample). */
 static brdffit_status check_rows(bf_run *run)
 {
-    if (bf_grid_has_rows(&run->plan)) return BRDFFIT_OK;
+    if (run->summary.rows[0] > 0) return BRDFFIT_OK;
     return bf_say(run->result->message, BRDFFIT_E_NO_DATA,
                   "no measured value inside the cap: every value with a non-zero weight there "
                   "is missing");
@@ -202,16 +190,17 @@ static brdffit_status final_metrics(bf_run *run)
     return BRDFFIT_OK;
 }
 
-/* The pipeline and the error figures, with the run's helper threads. */
+/* The pipeline and the error figures (the mean's from the summary). */
 static brdffit_status run_stages(bf_run *run)
 {
-    brdffit_status status;
-    bf_pool_start(&run->pool, helper_count(run));
-    status = pipelines[run->fit->pipeline](run);
+    brdffit_status status = pipelines[run->fit->pipeline](run);
     if (status == BRDFFIT_OK) bf_canonical_lobes(run); /* sharper lobe first */
     if (status == BRDFFIT_OK) status = final_metrics(run);
-    if (status == BRDFFIT_OK) bf_baseline_mean_error(run);
-    bf_pool_stop(&run->pool);
+    if (status == BRDFFIT_OK) {
+        run->result->mean_error = run->summary.mean_error;
+        run->result->mean_plain = run->summary.mean_plain;
+        run->result->mean_cost = run->summary.mean_cost;
+    }
     if (status == BRDFFIT_OK && run->cancelled) run->result->stop = BRDFFIT_STOP_CANCELLED;
     return status;
 }
@@ -224,10 +213,13 @@ brdffit_status bf_run_fit(brdffit_fit *fit, bf_result *out)
     run.fit = fit;
     run.result = out;
     BF_RETURN_IF_ERROR(make_plans(&run));
+    bf_pool_start(&run.pool, helper_count(&run));
+    bf_summary_make(&run);
     status = check_scale(&run);
     if (status == BRDFFIT_OK) status = check_rows(&run);
     if (status == BRDFFIT_OK) status = prepare_objective(&run);
     if (status == BRDFFIT_OK) status = run_stages(&run);
+    bf_pool_stop(&run.pool);
     free_plans(&run);
     if (status == BRDFFIT_E_OUT_OF_MEMORY) bf_say(out->message, status, "out of memory");
     return status;

@@ -387,7 +387,7 @@ brdffit_status bf_stage_lm(bf_stage *st, const double *start, double *params, do
     /* the fit's cancel stops the optimizer inside a step's solve and the
      * standard errors too */
     bf_optim_watch(st->opt, &fit->cancel);
-    bf_count_rows(&st->pb, &rows, NULL);
+    rows = bf_summary_rows(st->run, &st->pb);
     if (rows == 0) return no_rows(st);
     if (st->cov == NULL) st->cov = bf_calloc(&fit->alloc, st->n * st->n, sizeof *st->cov);
     if (st->cov == NULL) return bf_stage_fail(st, BRDFFIT_E_OUT_OF_MEMORY, "the covariance");

@@ -11,6 +11,7 @@
 #include "fit/fit_internal.h"
 #include "fit/pass.h"
 #include "fit/result.h"
+#include "fit/summary.h"
 
 /* What one fit run shares between its stages. The handle is only read
  * (options, start values, cancel flag); everything the run produces goes
@@ -20,6 +21,7 @@ typedef struct bf_run {
     bf_weight_plan plan, plan_sa;
     bf_pool pool; /* fit->threads - 1 helpers for every pass of the run */
     bf_result *result;
+    bf_summary summary; /* what the run needs of the data alone (summary.h) */
     double delta; /* the objective's floor (brdffit_objective) */
     int cancelled;
     int batch_ready; /* a batch's item products are in fit->batch_work (many_scan.h) */

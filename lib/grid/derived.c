@@ -122,15 +122,6 @@ void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *me
     }
 }
 
-double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n)
-{
-    double top = 0.0;
-    size_t c, s;
-    for (c = 0; c < g->n_channels; c++)
-        for (s = first; s < first + n; s++) top = fmax(top, g->values[c * g->n_samples + s]);
-    return top;
-}
-
 /* Present values of the selected channel (see bf_grid_count_rows) for
  * samples [first, first + n) into present. */
 static void load_present(const brdffit_grid *g, size_t channel, size_t first, size_t n,
@@ -140,15 +131,14 @@ static void load_present(const brdffit_grid *g, size_t channel, size_t first, si
     else bf_grid_load_channel(g, channel, first, n, meas, present);
 }
 
-/* Rows of the selected channel(s), counting stops once `limit` is passed. */
-static size_t count_rows(const bf_weight_plan *plan, size_t channel, size_t limit)
+size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
 {
     const brdffit_grid *g = plan->grid;
     double w[BF_CHUNK], meas[BF_CHUNK], present[BF_CHUNK];
     size_t ci, first, n, c, s, count = 0;
     size_t c0 = channel == BF_GRID_EVERY_CHANNEL ? 0 : channel;
     size_t c1 = channel == BF_GRID_EVERY_CHANNEL ? g->n_channels : c0 + 1;
-    for (ci = 0; ci < plan->n_chunks && count <= limit; ci++) {
+    for (ci = 0; ci < plan->n_chunks; ci++) {
         bf_weight_plan_chunk(plan, ci, &first, &n, w);
         for (c = c0; c < c1; c++) {
             load_present(g, channel == BF_GRID_MEAN ? BF_GRID_MEAN : c, first, n, meas, present);
@@ -156,16 +146,6 @@ static size_t count_rows(const bf_weight_plan *plan, size_t channel, size_t limi
         }
     }
     return count;
-}
-
-size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel)
-{
-    return count_rows(plan, channel, (size_t)-1);
-}
-
-int bf_grid_has_rows(const bf_weight_plan *plan)
-{
-    return count_rows(plan, BF_GRID_EVERY_CHANNEL, 0) > 0;
 }
 
 /* ---- derived grids ------------------------------------------------------ */

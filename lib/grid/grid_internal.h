@@ -241,10 +241,6 @@ size_t bf_grid_sample_mean(const brdffit_grid *g, size_t s, double *mean);
 void bf_grid_load_mean(const brdffit_grid *g, size_t first, size_t n, double *meas,
                        double *present);
 
-/* Largest value of any channel over samples [first, first + n) (missing
- * values are stored as 0), at least 0. */
-double bf_grid_largest_value(const brdffit_grid *g, size_t first, size_t n);
-
 /* Clear-coat divisor 1 - F(theta_i) = (1 - r0) (1 - (1 - cos theta_i)^5),
  * F Schlick's approximation with reflectance r0 at normal incidence and
  * cos theta_i clamped to [BF_DOT_FLOOR, 1] (docs/definitions.md): a
@@ -265,8 +261,5 @@ static inline double bf_grid_coat_divisor(double r0, double cos_i)
  * weight and present, of one channel, of every channel, or of the channel
  * mean (BF_GRID_MEAN: a sample counts once when any channel is present). */
 size_t bf_grid_count_rows(const bf_weight_plan *plan, size_t channel);
-
-/* Whether the plan has a row of any channel (stops at the first). */
-int bf_grid_has_rows(const bf_weight_plan *plan);
 
 #endif /* BRDFFIT_GRID_INTERNAL_H */
