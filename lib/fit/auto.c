@@ -134,6 +134,36 @@ static brdffit_status lobe_polish(bf_stage *st, const bf_scan *sc, best_polish *
     return status;
 }
 
+/* A coat of negligible weight leaves its roughness all but undetermined
+ * and LM crawls along it, to its iteration limit, while the other
+ * parameters are still short of their optimum: when the best polish has
+ * such a coat (bf_coat_faint()), it is polished again with the coat's
+ * roughness held, then once more with every parameter free from there
+ * (the result's errors and convergence are a free run's). Labelled with
+ * the number of candidates plus 1 + BF_LOBE_STARTS and plus 2 +
+ * BF_LOBE_STARTS. `work` has 3 n doubles. */
+static brdffit_status coat_settle(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
+{
+    double *start = work + 2 * st->n;
+    size_t e = bf_coat_faint(st, st->run->result->params);
+    brdffit_status status;
+    if (e == st->n || st->run->cancelled) return BRDFFIT_OK;
+    memcpy(start, st->run->result->params, st->n * sizeof *start);
+    st->kind = BRDFFIT_STAGE_POLISH;
+    st->label = sc->n_best + 1 + BF_LOBE_STARTS;
+    st->fixed[e] = 1;
+    status = bf_stage_lm(st, start, work, work + st->n);
+    st->fixed[e] = 0;
+    BF_RETURN_IF_ERROR(status);
+    bf_trace_keep(&st->run->result->trace, st->traced, 0);
+    if (st->run->cancelled) return BRDFFIT_OK;
+    memcpy(start, work, st->n * sizeof *start);
+    st->label++;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    BF_RETURN_IF_ERROR(rebound(st, work));
+    return keep_if_best(st, best, work);
+}
+
 /* A cancel during the scan: the best point seen so far, unpolished. */
 static brdffit_status cancelled_result(bf_stage *st, const bf_scan *sc)
 {
@@ -175,6 +205,7 @@ static brdffit_status polish_all(bf_stage *st, bf_scan *sc)
         status = polish(st, sc, i, &best, work);
     if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = repolish(st, sc, &best, work);
     if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = lobe_polish(st, sc, &best, work);
+    if (status == BRDFFIT_OK && best.cost < HUGE_VAL) status = coat_settle(st, sc, &best, work);
     if (status == BRDFFIT_OK && !(best.cost < HUGE_VAL))
         status = BRDFFIT_E_NOT_READY; /* cancelled before any polish */
     bf_free(a, work);

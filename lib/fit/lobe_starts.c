@@ -17,6 +17,9 @@
  * fraction of the other's, or their shapes within MERGED of each other. */
 #define FAINT 1e-3
 #define MERGED 1.5
+/* A coat is degenerate when its weight is below this times its lower
+ * bound. */
+#define COAT_FAINT 2.0
 
 /* Vector entry of declared parameter k (channel c for a colour). */
 static size_t entry(const bf_stage *st, size_t k, size_t c)
@@ -96,13 +99,44 @@ static int degenerate(const bf_stage *st, const bf_lobes *lobes, const double *a
     return s0 > 0.0 && s1 > 0.0 && fmax(s0, s1) < MERGED * fmin(s0, s1);
 }
 
+size_t bf_coat_faint(const bf_stage *st, const double *at)
+{
+    const bf_coat *coat = bf_model_coat(st->pb.model);
+    size_t w, s, b;
+    if (coat == NULL) return st->n;
+    w = entry(st, coat->weight, 0);
+    s = entry(st, coat->shape, 0);
+    b = entry(st, coat->base_shape, 0);
+    if (st->fixed[w] || st->fixed[s] || st->fixed[b]) return st->n;
+    return at[w] <= COAT_FAINT * st->lower[w] ? s : st->n;
+}
+
+/* The coat's start (lobe_starts.h) into start, *n counting it. */
+static brdffit_status coat_start(bf_stage *st, const bf_coat *coat, const double *at, double *start,
+                                 size_t *n)
+{
+    size_t w = entry(st, coat->weight, 0), s = entry(st, coat->shape, 0);
+    size_t b = entry(st, coat->base_shape, 0);
+    double cost;
+    if (bf_coat_faint(st, at) == st->n) return BRDFFIT_OK;
+    memcpy(start, at, st->n * sizeof *start);
+    start[w] = st->upper[w];
+    start[s] = at[b];
+    BF_RETURN_IF_ERROR(profile_with(st, start, b, st->upper[b], &cost));
+    memcpy(start, st->p, st->n * sizeof *start);
+    (*n)++;
+    return BRDFFIT_OK;
+}
+
 brdffit_status bf_lobe_starts(bf_stage *st, const bf_scan *sc, const double *at, double cost,
                               double *starts, size_t *n)
 {
     const bf_lobes *lobes = bf_model_lobes(st->pb.model);
+    const bf_coat *coat = bf_model_coat(st->pb.model);
     double lowest = cost * (1.0 + LINE_SLACK);
     size_t l;
     *n = 0;
+    if (coat != NULL) return coat_start(st, coat, at, starts, n);
     if (lobes == NULL || lobes->n != 2 || !lobes->interchangeable) return BRDFFIT_OK;
     for (l = 0; l < 2; l++)
         if (scan_dim(sc, entry(st, lobes->lobe[l].shape, 0)) == sc->nd) return BRDFFIT_OK;

@@ -73,6 +73,24 @@ const bf_lobes *bf_model_lobes(const brdffit_model *m)
     return m != NULL ? m->lobes : NULL;
 }
 
+/* gltf-clearcoat: roughness, metallic, clearcoat, clearcoatRoughness,
+ * baseColor; openpbr-coat: specular_roughness, base_metalness,
+ * specular_ior, coat_weight, coat_roughness, base_color. */
+static const bf_coat gltf_coat = {2, 3, 0};
+static const bf_coat openpbr_coat = {3, 4, 0};
+
+const bf_coat *bf_builtin_coat(const bf_builtin *b)
+{
+    if (b == &bf_builtin_gltf_clearcoat) return &gltf_coat;
+    if (b == &bf_builtin_openpbr_coat) return &openpbr_coat;
+    return NULL;
+}
+
+const bf_coat *bf_model_coat(const brdffit_model *m)
+{
+    return m != NULL ? m->coat : NULL;
+}
+
 /* The albedo at node i and angle t for Fresnel parameter f. */
 static double node(const bf_albedo_table *a, size_t i, size_t t, double f)
 {

@@ -75,6 +75,18 @@ typedef struct bf_lobes {
  * NULL for the others and for user models. */
 const bf_lobes *bf_model_lobes(const brdffit_model *m);
 
+/* A coat over a base lobe, both roughnesses (larger is broader): declared
+ * indices of the coat's weight, the coat's roughness and the base's. */
+typedef struct bf_coat {
+    size_t weight;
+    size_t shape;
+    size_t base_shape;
+} bf_coat;
+
+/* The coat of a built-in model with one (gltf-clearcoat, openpbr-coat);
+ * NULL for the others and for user models. */
+const bf_coat *bf_model_coat(const brdffit_model *m);
+
 /* An upper bound on the largest directional albedo over the angles above
  * of the lobe with colour 1 at sharpness `shape` and second parameter
  * `fresnel` (its `fresnel` member; 1 without one).

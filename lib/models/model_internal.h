@@ -24,6 +24,9 @@ struct brdffit_model {
     /* Built-in models: their specular lobes (models/lobes.h); NULL for user
      * models and built-ins without a lobe of a linear colour. */
     const struct bf_lobes *lobes;
+    /* Built-in models with a coat over their base lobe (models/lobes.h);
+     * NULL for the others. */
+    const struct bf_coat *coat;
     /* Built-in models affine in one per-channel colour: 1 + its declared
      * index (bf_builtin.affine in models/kernel.h); 0 for the others. */
     size_t affine;
@@ -32,5 +35,7 @@ struct brdffit_model {
 /* The lobes of built-in model b (lobes.c), NULL when it has none. */
 struct bf_builtin;
 const struct bf_lobes *bf_builtin_lobes(const struct bf_builtin *b);
+/* The coat of built-in model b (lobes.c), NULL when it has none. */
+const struct bf_coat *bf_builtin_coat(const struct bf_builtin *b);
 
 #endif /* BRDFFIT_MODEL_INTERNAL_H */

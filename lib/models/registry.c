@@ -62,6 +62,7 @@ brdffit_status brdffit_model_create(brdffit_model **out, const char *name,
     BF_RETURN_IF_ERROR(brdffit_model_create_custom(out, &def, alloc, err));
     (*out)->kernel = b->kernel;
     (*out)->lobes = bf_builtin_lobes(b);
+    (*out)->coat = bf_builtin_coat(b);
     (*out)->affine = b->affine;
     return BRDFFIT_OK;
 }
