@@ -501,7 +501,10 @@ typedef enum brdffit_fit_stage_kind {
  */
 typedef struct brdffit_fit_stage {
     brdffit_fit_stage_kind kind; /**< What the stage is. */
-    size_t index;       /**< Polish: the candidate's rank in the scan (0 the best); channel: the channel; else 0. */
+    size_t index;       /**< Polish: below the number of scan candidates, the candidate's rank in the
+                             scan (0 the best); from it on, the further starts, numbered as
+                             docs/fitting.md (Stages and the whole history) lists them; channel:
+                             the channel; else 0. */
     size_t first;       /**< Its first entry in brdffit_fit_history_all(). */
     size_t length;      /**< Its number of entries there. */
     brdffit_stop_reason stop; /**< Why an LM stage ended; ::BRDFFIT_STOP_NONE for the scan. */
