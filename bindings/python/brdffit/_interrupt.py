@@ -4,7 +4,8 @@ The library runs a fit without the interpreter, so Python's SIGINT handler
 (which raises KeyboardInterrupt) would only run once the fit is over. While
 a fit runs in the main thread with the default handler, a watcher thread
 reads the interpreter's wakeup pipe and cancels the fit when SIGINT
-arrives; once the run is over, ``KeyboardInterrupt`` is raised at a known
+arrives (and the handler cancels it too when it runs first, in a Python
+callback of the fit); once the run is over, ``KeyboardInterrupt`` is raised at a known
 point (see :meth:`SigintCancel.raise_if_interrupted`).
 """
 
@@ -26,7 +27,12 @@ class SigintCancel:
         self._active = False
 
     def _handler(self, signum, frame):
+        # Runs when the interpreter next runs Python code in the main
+        # thread: in a Python callback of the fit (a model, a policy),
+        # which cancels it at once, without waiting for the watcher
+        # thread to be scheduled; else after the run.
         self.interrupted = True
+        self._cancel()
 
     def _watch(self, r, old):
         while True:
