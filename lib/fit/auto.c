@@ -67,6 +67,19 @@ static brdffit_status rebound(bf_stage *st, double *work)
     return BRDFFIT_OK;
 }
 
+/* One polish: LM over every free parameter from start (n values, not
+ * work), labelled `label`; its colours brought within the bounds at its
+ * own shape, kept when best. `work` has 2 n doubles. */
+static brdffit_status polish_from(bf_stage *st, const double *start, size_t label,
+                                  best_polish *best, double *work)
+{
+    st->kind = BRDFFIT_STAGE_POLISH;
+    st->label = label;
+    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
+    BF_RETURN_IF_ERROR(rebound(st, work));
+    return keep_if_best(st, best, work);
+}
+
 /* Polish candidate i with LM over every free parameter; the best polish
  * so far is in the run's result. `work` has 3 n doubles. */
 static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_polish *best,
@@ -77,11 +90,7 @@ static brdffit_status polish(bf_stage *st, const bf_scan *sc, size_t i, best_pol
     BF_RETURN_IF_ERROR(bf_plausible_bounds(st, 1)); /* every bound at the candidate's shape */
     BF_RETURN_IF_ERROR(bf_profile_point(st, NULL, 1, &cost));
     memcpy(start, st->p, st->n * sizeof *start);
-    st->kind = BRDFFIT_STAGE_POLISH;
-    st->label = i;
-    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
-    BF_RETURN_IF_ERROR(rebound(st, work));
-    return keep_if_best(st, best, work);
+    return polish_from(st, start, i, best, work);
 }
 
 /* Whether to polish once more from the model's start values: when the
@@ -105,11 +114,7 @@ static int wants_repolish(const bf_stage *st)
 static brdffit_status repolish(bf_stage *st, const bf_scan *sc, best_polish *best, double *work)
 {
     if (!wants_repolish(st)) return BRDFFIT_OK;
-    st->kind = BRDFFIT_STAGE_POLISH;
-    st->label = sc->n_best;
-    BF_RETURN_IF_ERROR(bf_stage_lm(st, st->base, work, work + st->n));
-    BF_RETURN_IF_ERROR(rebound(st, work)); /* its colours within the bounds at its own shape */
-    return keep_if_best(st, best, work);
+    return polish_from(st, st->base, sc->n_best, best, work);
 }
 
 /* The polishes from two lobes' further starts (lobe_starts.h), labelled
@@ -123,13 +128,8 @@ static brdffit_status lobe_polish(bf_stage *st, const bf_scan *sc, best_polish *
     if (starts == NULL) return BRDFFIT_E_OUT_OF_MEMORY;
     memcpy(starts + BF_LOBE_STARTS * st->n, st->run->result->params, st->n * sizeof *starts);
     status = bf_lobe_starts(st, sc, starts + BF_LOBE_STARTS * st->n, best->cost, starts, &n);
-    for (i = 0; i < n && status == BRDFFIT_OK && !st->run->cancelled; i++) {
-        st->kind = BRDFFIT_STAGE_POLISH;
-        st->label = sc->n_best + 1 + i;
-        status = bf_stage_lm(st, starts + i * st->n, work, work + st->n);
-        if (status == BRDFFIT_OK) status = rebound(st, work);
-        if (status == BRDFFIT_OK) status = keep_if_best(st, best, work);
-    }
+    for (i = 0; i < n && status == BRDFFIT_OK && !st->run->cancelled; i++)
+        status = polish_from(st, starts + i * st->n, sc->n_best + 1 + i, best, work);
     bf_free(a, starts);
     return status;
 }
@@ -158,10 +158,7 @@ static brdffit_status coat_settle(bf_stage *st, const bf_scan *sc, best_polish *
     bf_trace_keep(&st->run->result->trace, st->traced, 0);
     if (st->run->cancelled) return BRDFFIT_OK;
     memcpy(start, work, st->n * sizeof *start);
-    st->label++;
-    BF_RETURN_IF_ERROR(bf_stage_lm(st, start, work, work + st->n));
-    BF_RETURN_IF_ERROR(rebound(st, work));
-    return keep_if_best(st, best, work);
+    return polish_from(st, start, st->label + 1, best, work);
 }
 
 /* A cancel during the scan: the best point seen so far, unpolished. */
