@@ -202,8 +202,9 @@ static void single_fit(const brdffit_model *m, const geometry *g, const double *
     brdffit_grid_destroy(grid);
 }
 
-/* Items a and b of two result sets are the same, bit for bit; a failed
- * item has NaN everywhere. */
+/* Items a and b of two result sets are the same, bit for bit (the
+ * standard errors when a asked for them); a failed item has NaN
+ * everywhere. */
 static void assert_same_item(const results *a, const results *b, size_t i)
 {
     size_t k;
@@ -216,7 +217,8 @@ static void assert_same_item(const results *a, const results *b, size_t i)
         return;
     }
     assert_memory_equal(a->params + i * NV, b->params + i * NV, NV * sizeof(double));
-    assert_memory_equal(a->se + i * NV, b->se + i * NV, NV * sizeof(double));
+    if (a->out.std_errors != NULL)
+        assert_memory_equal(a->se + i * NV, b->se + i * NV, NV * sizeof(double));
     assert_memory_equal(&a->cost[i], &b->cost[i], sizeof(double));
     assert_memory_equal(&a->rms[i], &b->rms[i], sizeof(double));
     assert_memory_equal(&a->ngan[i], &b->ngan[i], sizeof(double));
@@ -235,7 +237,9 @@ static brdffit_fit *prototype(const brdffit_grid *grid, const brdffit_model *m, 
     return fit;
 }
 
-/* The batch against single fits, on 1 and 2 threads, with `options`. */
+/* The batch against single fits, on 1 and 2 threads, with `options`; the
+ * run on 2 threads asks for no standard errors (their computation is
+ * skipped), which must leave everything else as it is. */
 static void check_against_single(options_fn options, size_t n, const unsigned char *missing,
                                  double *values)
 {
@@ -250,6 +254,7 @@ static void check_against_single(options_fn options, size_t n, const unsigned ch
     grid = scattered(&g, values, NULL, NULL); /* item 0's values: not used by the batch */
     p1 = prototype(grid, m, options, 1, NULL);
     p2 = prototype(grid, m, options, 2, NULL);
+    two->out.std_errors = NULL;
     assert_int_equal(brdffit_fit_many(p1, n, values, missing, &one->out, NULL, NULL), 0);
     assert_int_equal(brdffit_fit_many(p2, n, values, missing, &two->out, NULL, NULL), 0);
     assert_int_equal(one->out.n_run, n);

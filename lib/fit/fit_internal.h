@@ -42,6 +42,10 @@ struct brdffit_fit {
      * NULL for every other fit */
     const struct bf_batch *batch;
     double *batch_work;
+    /* no standard errors or covariance: their eigen-decomposition (and the
+     * sandwich's pass) skipped, both left 0; set by brdffit_fit_many()
+     * when its caller asks for no standard errors, 0 for every other fit */
+    int no_errors;
 
     /* the last run's result (valid when has_result; passes always) */
     int has_result;

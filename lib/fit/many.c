@@ -202,6 +202,7 @@ static brdffit_status make_workers(many_job *job, size_t n)
     for (t = 0; t < n; t++) {
         brdffit_fit *fit = job->workers[t].fit;
         fit->batch = &job->batch;
+        fit->no_errors = job->out->std_errors == NULL;
         if (job->batch.work_size == 0) continue;
         fit->batch_work = bf_calloc(a, job->batch.work_size, sizeof(double));
         if (fit->batch_work == NULL) return BRDFFIT_E_OUT_OF_MEMORY;

@@ -322,15 +322,16 @@ static int prepare_sandwich(bf_stage *st, const double *params, brdffit_status *
 
 /* The natural result, standard errors and covariance of the run ending
  * at x: the optimizer's, in natural units by the delta method; all 0 when
- * a cancel stopped them. A failure of the sandwich's pass is returned. */
+ * a cancel stopped them or the fit does not want them. A failure of the
+ * sandwich's pass is returned. */
 static brdffit_status collect(bf_stage *st, const double *x, double *params, double *se)
 {
     size_t n = st->n, a, b;
     brdffit_status status = BRDFFIT_OK;
-    int ok = 1;
+    int ok = !st->run->fit->no_errors;
     to_natural(st, x, params);
     st->cost = brdffit_optimizer_final_cost(st->opt);
-    if (st->run->fit->sandwich) ok = prepare_sandwich(st, params, &status);
+    if (ok && st->run->fit->sandwich) ok = prepare_sandwich(st, params, &status);
     if (status != BRDFFIT_OK) return status;
     ok = ok && bf_optim_std_errors_covariance(st->opt, se, st->cov) == BRDFFIT_OK;
     if (!ok) {
