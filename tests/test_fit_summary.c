@@ -4,7 +4,9 @@
  * means in long double) from the plans' weights (brdffit_grid_weights()),
  * the grid's values and cos(theta_i); on one thread and on three, with
  * and without missing values and a clear coat, on 3 channels and on 9
- * (two sweeps, lanes partly filled). */
+ * (two sweeps), and on a scattered grid with a sample of weight 0 whose
+ * compensated value overflows (it must add nothing). */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,8 +60,8 @@ static long double deviation(const double *a, const double *r, size_t n)
 }
 
 /* The summary of a fit of grid g on `threads` threads against the sums
- * taken here. */
-static void check(brdffit_grid *g, double coat, size_t threads)
+ * taken here; the largest value inside the cap is at least top_min. */
+static void check(brdffit_grid *g, double coat, size_t threads, double top_min)
 {
     brdffit_model *model = NULL;
     brdffit_fit *fit = NULL;
@@ -107,7 +109,7 @@ static void check(brdffit_grid *g, double coat, size_t threads)
             a[0][s] = pres[0] != 0.0 && wsa[s] != 0.0 ? wsa[s] * cz * cz : 0.0;
             a[1][s] = pres[0] != 0.0 && wsa[s] != 0.0 ? 1.0 : 0.0;
             a[2][s] = pres[0] != 0.0 && w[s] != 0.0 ? w[s] * w[s] : 0.0;
-            r[0][s] = r[1][s] = x;
+            r[0][s] = r[1][s] = wsa[s] != 0.0 || w[s] != 0.0 ? x : 0.0;
             rows[0] += a[2][s] != 0.0;
             rows[1] += a[1][s] != 0.0;
         }
@@ -115,6 +117,7 @@ static void check(brdffit_grid *g, double coat, size_t threads)
         want[1] += deviation(a[1], r[0], n);
         want[2] += deviation(a[2], r[1], n);
     }
+    top = fmax(top, top_min);
     assert_true(top > 0.0);
     assert_true(run.summary.top == top);
     assert_int_equal(run.summary.on[0], on[0]);
@@ -159,8 +162,8 @@ static void test_three_channels(void **state)
     for (missing = 0; missing < 2; missing++) {
         brdffit_grid *g = make_grid(3, (int)missing);
         for (t = 1; t <= 3; t += 2) {
-            check(g, 0.0, t);
-            check(g, 0.04, t);
+            check(g, 0.0, t, 0.0);
+            check(g, 0.04, t, 0.0);
         }
         brdffit_grid_destroy(g);
     }
@@ -172,10 +175,44 @@ static void test_nine_channels(void **state)
     (void)state;
     for (missing = 0; missing < 2; missing++) {
         brdffit_grid *g = make_grid(9, (int)missing);
-        check(g, 0.0, 1);
-        check(g, 0.04, 3);
+        check(g, 0.0, 1, 0.0);
+        check(g, 0.04, 3, 0.0);
         brdffit_grid_destroy(g);
     }
+}
+
+/* A scattered grid whose sample ZERO (inside the cap) has the weight 0
+ * and the value HUGE in every channel: with the clear coat of R0 0.5 its
+ * compensated value overflows (the divisors are below 0.5), yet the sums
+ * are those of the other samples; it is still the largest value inside
+ * the cap. */
+static void test_weight_zero_overflow(void **state)
+{
+    enum { N = 300, ZERO = 17 };
+    const double huge = DBL_MAX / 1.5;
+    double ti[N], pi[N], to[N], po[N], values[N * 3], weights[N];
+    brdffit_grid *g = NULL;
+    size_t s, c, t;
+    (void)state;
+    for (s = 0; s < N; s++) {
+        ti[s] = (double)(s * 7 % 60) * DEG2RAD;
+        pi[s] = 0.0;
+        to[s] = (double)(s * 11 % 65) * DEG2RAD;
+        po[s] = (double)(s * 13 % 360) * DEG2RAD;
+        weights[s] = s == ZERO ? 0.0 : 0.5 + (double)(s % 5) / 4.0;
+        for (c = 0; c < 3; c++)
+            values[s * 3 + c] = s == ZERO ? huge : fx_value(ti[s], to[s], po[s], c);
+    }
+    assert_int_equal(
+        brdffit_grid_create_scattered(&g, N, ti, pi, to, po, 3, values, NULL, weights, NULL, NULL),
+        BRDFFIT_OK);
+    for (s = 0; s < N; s++)
+        assert_true(isinf(huge / bf_grid_coat_divisor(0.5, bf_grid_geometry(g)->lz[s])));
+    for (t = 1; t <= 3; t += 2) {
+        check(g, 0.5, t, huge);
+        check(g, 0.0, t, huge);
+    }
+    brdffit_grid_destroy(g);
 }
 
 int main(void)
@@ -183,6 +220,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_three_channels),
         cmocka_unit_test(test_nine_channels),
+        cmocka_unit_test(test_weight_zero_overflow),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

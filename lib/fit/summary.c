@@ -1,15 +1,25 @@
 /* The run's data summary: see summary.h. One sweep over the chunks of the
  * weight plans (the residual plan and the solid-angle one have the same
  * chunks: they depend on the grid and the cap alone) serves up to GROUP
- * channels; it reads each chunk's weights of both plans and each
- * channel's values once for every figure. The mean's error takes each
- * chunk's weighted mean and squared deviation about the chunk's own mean
- * and merges them into the running totals by Chan, Golub and LeVeque's
- * update (The American Statistician 37(3), 1983), so nothing cancels. The
- * fit's threads take contiguous blocks of chunks, merged in block order,
- * as the passes do. */
+ * channels; it reads each chunk's weights of both plans once, makes the
+ * three sums' weights of each sample from them (shared by the channels),
+ * and reads each channel's values in place, once for the largest value
+ * and the weighted sums and once for the deviations (a clear coat's
+ * compensated values are made once per chunk and channel; without one
+ * nothing is divided). The three sums of a channel are added side by
+ * side in the lanes of one vector, each in sample order. The mean's
+ * error takes each chunk's weighted mean and squared deviation about the
+ * chunk's own mean and merges them into the running totals by Chan,
+ * Golub and LeVeque's update (The American Statistician 37(3), 1983), so
+ * nothing cancels. Values that do not count in a sum (a weight 0, a
+ * missing value) add exact zeros: without missing values, a finite
+ * value times its weight 0 is one; with missing values, or where a
+ * compensated value overflows, masked_moments() puts the value 0 there
+ * instead. The fit's threads take contiguous blocks of chunks, merged in
+ * block order, as the passes do. */
 #include "fit/summary.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "core/core.h"
@@ -22,9 +32,14 @@
 /* The mean's three sums (summary.h): E's numerator, e's, the cost. */
 enum { E_SUM, PLAIN_SUM, COST_SUM, N_SUMS };
 
-/* Channels whose sums one loop adds side by side, and the sums. */
+/* The three sums side by side in the lanes of a vector, one AVX2
+ * register or two of the baseline's (GNU C vector extensions, as
+ * many_scan.c's; without fused multiply-adds, as BF_VECTOR_CLONES
+ * promises). Each lane adds in sample order, as a scalar sum would. The
+ * fourth lane of a chunk's weights counts its samples of the residual
+ * plan; its sums are not used. */
 #define LANES 4
-#define J_LANES (LANES * N_SUMS)
+typedef double lanes __attribute__((vector_size(LANES * sizeof(double))));
 
 /* Weighted count, mean and squared deviation about the mean. */
 typedef struct moments {
@@ -53,130 +68,140 @@ typedef struct block {
     size_t on[2], rows[2];
 } block;
 
-/* A chunk's weights and values for LANES channels side by side: a value
- * counts in the solid-angle plan's sums (E's and e's) where that plan's
- * weight is non-zero and the value present, in the cost where the
- * residual weight is; elsewhere it and its weight are 0. */
+/* A chunk's weights, which every channel without a missing value shares:
+ * a value counts in the solid-angle plan's sums (E's and e's) where that
+ * plan's weight is non-zero, in the cost where the residual weight is. */
 typedef struct chunk {
-    size_t first, n, on[2];      /* on: samples with a non-zero weight, of each plan */
-    double w[2][BF_CHUNK];       /* the plans' weights ([0] the residual plan) */
-    double aw[N_SUMS][BF_CHUNK]; /* sum k's weight of a present value */
-    double dv[BF_CHUNK];         /* the clear-coat divisors (1 without) */
-    double a[BF_CHUNK][J_LANES]; /* sum k's weight in lane l at k LANES + l */
-    double r[BF_CHUNK][J_LANES]; /* and its value */
+    lanes a[BF_CHUNK];      /* the sums' weights of sample s (a zero where it does not count) */
+    lanes a_total;          /* each lane's weights added in sample order */
+    size_t first, n, on[2]; /* on: samples with a non-zero weight, of each plan */
+    double w[2][BF_CHUNK];  /* the plans' weights ([0] the residual plan) */
+    double dv[BF_CHUNK];    /* the clear-coat divisors (with a coat only) */
 } chunk;
 
-/* The sums' moments of the chunk, m[k LANES + l]. Each sum is added up in
- * sample order, as a sum alone would be (the same bits); side by side,
- * their additions overlap and vectorise. */
-BF_VECTOR_CLONES static void chunk_moments(const chunk *ch, moments *m)
+/* The sums' moments m[k] from the lanes' weight totals w, weighted sums
+ * s1 and weights a and values r of the n samples (squared deviations
+ * about the mean s1 / w, where w > 0). r NULL: every lane's value is
+ * y[s]. */
+static void lane_moments(const lanes *a, const lanes *w, const lanes *s1, const lanes *r,
+                         const double *y, size_t n, moments *m)
 {
-    double w[J_LANES] = {0.0}, s1[J_LANES] = {0.0}, mean[J_LANES] = {0.0}, m2[J_LANES] = {0.0};
-    size_t s, j;
-    for (s = 0; s < ch->n; s++)
-        for (j = 0; j < J_LANES; j++) {
-            w[j] += ch->a[s][j];
-            s1[j] += ch->a[s][j] * ch->r[s][j];
-        }
-    for (j = 0; j < J_LANES; j++)
-        if (w[j] > 0.0) mean[j] = s1[j] / w[j];
-    for (s = 0; s < ch->n; s++)
-        for (j = 0; j < J_LANES; j++) {
-            double d = ch->r[s][j] - mean[j];
-            m2[j] += ch->a[s][j] * d * d;
-        }
-    for (j = 0; j < J_LANES; j++) {
-        m[j].w = w[j];
-        m[j].mean = mean[j];
-        m[j].m2 = w[j] > 0.0 ? m2[j] : 0.0;
+    lanes mean = {0.0, 0.0, 0.0, 0.0}, m2 = mean;
+    size_t s, k;
+    for (k = 0; k < N_SUMS; k++)
+        if ((*w)[k] > 0.0) mean[k] = (*s1)[k] / (*w)[k];
+    for (s = 0; s < n; s++) {
+        lanes d = (r != NULL ? r[s] : (lanes){y[s], y[s], y[s], y[s]}) - mean;
+        m2 += a[s] * d * d;
+    }
+    for (k = 0; k < N_SUMS; k++) {
+        m[k].w = (*w)[k];
+        m[k].mean = mean[k];
+        m[k].m2 = (*w)[k] > 0.0 ? m2[k] : 0.0;
     }
 }
 
-/* Fill ch->r (and ch->a with missing values; without, sweep_chunk() fills
- * it once for every lane) for the channels c0 .. c0 + nc - 1
- * (nc <= LANES), counting their rows and largest value into b. Lanes
- * without a channel hold values 0 (their moments are not used). */
-BF_VECTOR_CLONES static void fill_lanes(block *b, chunk *ch, size_t c0, size_t nc, int missing)
+/* The sums' moments of one channel's values y of the chunk, with the
+ * chunk's weights, and the largest of its measured values v and *top
+ * into *top. Every value enters every sum, also where its weight is 0: a
+ * finite value then adds a zero (x + 0 = x, and a sum starting at +0
+ * never becomes -0), the same bits as the value 0 masked_moments() puts
+ * there. Returns 0 if a value is not finite (the weighted sums are then
+ * not finite either), and m is not to be used. */
+static int shared_moments(const chunk *ch, const double *v, const double *y, double *top,
+                          moments *m)
 {
-    const brdffit_grid *g = b->run->fit->grid;
-    double meas[BF_CHUNK], pres[BF_CHUNK];
-    size_t l, s, k, n = ch->n;
-    for (l = nc; l < LANES; l++)
-        for (s = 0; s < n; s++)
-            for (k = 0; k < N_SUMS; k++) {
-                ch->r[s][k * LANES + l] = 0.0;
-                if (missing) ch->a[s][k * LANES + l] = 0.0;
-            }
-    for (l = 0; l < nc; l++) {
-        const double *v = bf_grid_values(g, c0 + l) + ch->first;
-        double top = b->top;
-        if (!missing) {
-            for (s = 0; s < n; s++) {
-                double x = v[s], y = x / ch->dv[s];
-                top = x > top ? x : top;
-                ch->r[s][E_SUM * LANES + l] = ch->r[s][PLAIN_SUM * LANES + l] =
-                    ch->w[1][s] != 0.0 ? y : 0.0;
-                ch->r[s][COST_SUM * LANES + l] = ch->w[0][s] != 0.0 ? y : 0.0;
-            }
-            b->rows[0] += ch->on[0];
-            b->rows[1] += ch->on[1];
-            b->top = top;
-            continue;
-        }
-        bf_grid_load_channel(g, c0 + l, ch->first, n, meas, pres);
-        for (s = 0; s < n; s++) {
-            const int here = pres[s] != 0.0;
-            const int on = here && ch->w[0][s] != 0.0, on_sa = here && ch->w[1][s] != 0.0;
-            double x = v[s], y = x / ch->dv[s];
-            top = x > top ? x : top;
-            b->rows[0] += (size_t)on;
-            b->rows[1] += (size_t)on_sa;
-            for (k = 0; k < N_SUMS; k++) ch->a[s][k * LANES + l] = here ? ch->aw[k][s] : 0.0;
-            ch->r[s][E_SUM * LANES + l] = ch->r[s][PLAIN_SUM * LANES + l] = on_sa ? y : 0.0;
-            ch->r[s][COST_SUM * LANES + l] = on ? y : 0.0;
-        }
-        b->top = top;
+    lanes s1 = {0.0, 0.0, 0.0, 0.0};
+    double t = *top;
+    size_t s;
+    for (s = 0; s < ch->n; s++) {
+        t = v[s] > t ? v[s] : t;
+        s1 += ch->a[s] * y[s];
     }
+    *top = t;
+    if (!(isfinite(s1[E_SUM]) && isfinite(s1[PLAIN_SUM]) && isfinite(s1[COST_SUM]))) return 0;
+    lane_moments(ch->a, &ch->a_total, &s1, NULL, y, ch->n, m);
+    return 1;
+}
+
+/* The same moments from values that count only where pres (NULL: every
+ * value present) and the sum's plan weight are non-zero, and are 0
+ * elsewhere: with missing values, and where shared_moments() met a value
+ * that is not finite (an overflowing clear-coat compensation). */
+static void masked_moments(const chunk *ch, const double *y, const double *pres, moments *m)
+{
+    lanes a[BF_CHUNK], r[BF_CHUNK], zero = {0.0, 0.0, 0.0, 0.0}, w = zero, s1 = zero;
+    size_t s;
+    for (s = 0; s < ch->n; s++) {
+        const int here = pres == NULL || pres[s] != 0.0;
+        const double on = here && ch->w[0][s] != 0.0 ? y[s] : 0.0;
+        const double on_sa = here && ch->w[1][s] != 0.0 ? y[s] : 0.0;
+        a[s] = here ? ch->a[s] : zero;
+        r[s] = (lanes){on_sa, on_sa, on, 0.0};
+        w += a[s];
+        s1 += a[s] * r[s];
+    }
+    lane_moments(a, &w, &s1, r, y, ch->n, m);
 }
 
 /* Chunk ci: the weights of both plans and the geometry once, then the
- * group's channels, LANES at a time. */
+ * group's channels one by one, their values read in place (divided by
+ * the coat's divisors into a copy with a clear coat). */
 BF_VECTOR_CLONES static void sweep_chunk(block *b, size_t ci)
 {
     const brdffit_fit *fit = b->run->fit;
     const int coat = fit->clearcoat > 0.0, missing = bf_grid_has_missing(fit->grid);
     chunk ch;
-    moments m[J_LANES];
-    size_t c, s, k, l;
+    moments m[N_SUMS];
+    lanes total;
+    double y[BF_CHUNK], meas[BF_CHUNK], pres[BF_CHUNK];
+    size_t c, s, k;
     brdffit_batch batch;
     bf_weight_plan_chunk(&b->run->plan, ci, &ch.first, &ch.n, ch.w[0]);
     bf_weight_plan_chunk(&b->run->plan_sa, ci, &ch.first, &ch.n, ch.w[1]);
     bf_grid_batch(fit->grid, ch.first, ch.n, &batch);
-    ch.on[0] = ch.on[1] = 0;
+    /* the sums' weights of each sample: E's w cos^2, e's 1, the cost's
+     * w^2, and 1 in the spare lane where the residual weight counts;
+     * weights are >= 0 (> 0 is != 0), and one of 0 makes its products
+     * zeros, of either sign, which add as the +0 of a selection would */
+    total = (lanes){0.0, 0.0, 0.0, 0.0};
     for (s = 0; s < ch.n; s++) {
-        double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0;
-        ch.aw[E_SUM][s] = ch.w[1][s] != 0.0 ? ch.w[1][s] * cz * cz : 0.0;
-        ch.aw[PLAIN_SUM][s] = ch.w[1][s] != 0.0 ? 1.0 : 0.0;
-        ch.aw[COST_SUM][s] = ch.w[0][s] != 0.0 ? ch.w[0][s] * ch.w[0][s] : 0.0;
-        /* a compensated value is the measured one divided by it; x / 1 is x */
-        ch.dv[s] = coat ? bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]) : 1.0;
-        ch.on[0] += ch.w[0][s] != 0.0;
-        ch.on[1] += ch.w[1][s] != 0.0;
+        const double cz = batch.lz[s] > 0.0 ? batch.lz[s] : 0.0, w0 = ch.w[0][s], w1 = ch.w[1][s];
+        const lanes as = {w1 * cz * cz, w1 > 0.0 ? 1.0 : 0.0, w0 * w0, w0 > 0.0 ? 1.0 : 0.0};
+        ch.a[s] = as;
+        total += as;
     }
+    ch.a_total = total;
+    /* whole numbers up to BF_CHUNK: exact */
+    ch.on[0] = (size_t)total[N_SUMS];
+    ch.on[1] = (size_t)total[PLAIN_SUM];
+    /* a compensated value is the measured one divided by it */
+    if (coat)
+        for (s = 0; s < ch.n; s++) ch.dv[s] = bf_grid_coat_divisor(fit->clearcoat, batch.lz[s]);
     if (b->c0 == 0) {
         b->on[0] += ch.on[0];
         b->on[1] += ch.on[1];
     }
-    if (!missing)
-        for (s = 0; s < ch.n; s++)
-            for (k = 0; k < N_SUMS; k++)
-                for (l = 0; l < LANES; l++) ch.a[s][k * LANES + l] = ch.aw[k][s];
-    for (c = 0; c < b->nc; c += LANES) {
-        size_t nl = b->nc - c < LANES ? b->nc - c : LANES;
-        fill_lanes(b, &ch, b->c0 + c, nl, missing);
-        chunk_moments(&ch, m);
-        for (l = 0; l < nl; l++)
-            for (k = 0; k < N_SUMS; k++) merge(&b->out[(c + l) * N_SUMS + k], &m[k * LANES + l]);
+    for (c = 0; c < b->nc; c++) {
+        const double *v = bf_grid_values(fit->grid, b->c0 + c) + ch.first, *yc = v;
+        if (coat) {
+            for (s = 0; s < ch.n; s++) y[s] = v[s] / ch.dv[s];
+            yc = y;
+        }
+        if (missing) {
+            for (s = 0; s < ch.n; s++) b->top = v[s] > b->top ? v[s] : b->top;
+            bf_grid_load_channel(fit->grid, b->c0 + c, ch.first, ch.n, meas, pres);
+            for (s = 0; s < ch.n; s++) {
+                b->rows[0] += pres[s] != 0.0 && ch.w[0][s] != 0.0;
+                b->rows[1] += pres[s] != 0.0 && ch.w[1][s] != 0.0;
+            }
+            masked_moments(&ch, yc, pres, m);
+        } else {
+            b->rows[0] += ch.on[0];
+            b->rows[1] += ch.on[1];
+            if (!shared_moments(&ch, v, yc, &b->top, m)) masked_moments(&ch, yc, NULL, m);
+        }
+        for (k = 0; k < N_SUMS; k++) merge(&b->out[c * N_SUMS + k], &m[k]);
     }
 }
 
