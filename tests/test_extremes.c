@@ -960,6 +960,58 @@ static void test_channel_limit(void **state)
     brdffit_model_destroy(model);
 }
 
+/* Two-stage with more parameters than one stage takes (2048 channels of
+ * Ashikhmin-Shirley): the error figures come channel by channel, each e
+ * from that channel's own values, which differ from channel to channel
+ * (against the test's own sums over the 8 samples, all inside the cap). */
+static void test_channel_by_channel_figures(void **state)
+{
+    static const double two[] = {0, 30}, po[] = {0, 90};
+    const size_t nc = 2048;
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    brdffit_grid *grid = NULL;
+    brdffit_fit *fit = NULL;
+    double *values, *p, *vals, got;
+    size_t n, nv, s, c;
+    fx_axes a;
+    (void)state;
+    fx_axes_set(&a, two, 2, two, 2, po, 2);
+    n = axes_samples(&a.axes);
+    nv = brdffit_model_vector_size(model, nc);
+    values = malloc(n * nc * sizeof *values);
+    p = malloc(nv * sizeof *p);
+    vals = malloc(n * nc * sizeof *vals);
+    assert_non_null(values);
+    assert_non_null(p);
+    assert_non_null(vals);
+    for (s = 0; s < n; s++)
+        for (c = 0; c < nc; c++)
+            values[s * nc + c] = (0.05 + 0.01 * (double)(c % 13)) * (1.0 + 0.3 * (double)s);
+    assert_int_equal(brdffit_grid_create_regular(&grid, &a.axes, nc, values, NULL, NULL, NULL),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_create(&fit, grid, model, NULL, NULL), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_PIPELINE, BRDFFIT_PIPELINE_TWO_STAGE),
+                     BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_run(fit), BRDFFIT_OK);
+    assert_int_equal(brdffit_fit_params(fit, p), BRDFFIT_OK);
+    assert_int_equal(brdffit_model_eval_grid(model, grid, 0, n, p, vals, NULL, NULL), BRDFFIT_OK);
+    for (c = 0; c < nc; c += 97) {
+        const double *r;
+        double e2 = 0.0;
+        assert_int_equal(brdffit_grid_values(grid, c, &r), BRDFFIT_OK);
+        for (s = 0; s < n; s++) e2 += (vals[c * n + s] - r[s]) * (vals[c * n + s] - r[s]);
+        assert_int_equal(brdffit_fit_error(fit, BRDFFIT_METRIC_RMS, c, &got), BRDFFIT_OK);
+        assert_true(e2 > 0.0);
+        assert_true(fabs(got - sqrt(e2)) <= 1e-9 * sqrt(e2));
+    }
+    brdffit_fit_destroy(fit);
+    brdffit_grid_destroy(grid);
+    brdffit_model_destroy(model);
+    free(values);
+    free(p);
+    free(vals);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -978,6 +1030,7 @@ int main(void)
         cmocka_unit_test(test_one_channel),
         cmocka_unit_test(test_64_channels),
         cmocka_unit_test(test_channel_limit),
+        cmocka_unit_test(test_channel_by_channel_figures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -650,8 +650,9 @@ static void test_many_scan_dimensions(void **state)
  * of the fit's objective, squares (sum (w (M - R))^2, w the residual
  * weight) or cube-root (sum (a (cbrt(c M) - cbrt(c R)))^2, a the
  * solid-angle weight alone, c = cos theta_i; docs/fitting.md, Objectives). */
-static void check_error_figures(brdffit_fit *fit, const brdffit_grid *grid,
-                                const brdffit_model *model, int cube_root)
+static void check_error_figures_of(brdffit_fit *fit, const brdffit_grid *grid,
+                                   const brdffit_model *model, int cube_root,
+                                   const unsigned char *missing)
 {
     size_t n = brdffit_grid_sample_count(grid), s, c;
     double *w = malloc(n * sizeof *w), *a = malloc(n * sizeof *a), *vals = malloc(3 * n * 8);
@@ -677,6 +678,7 @@ static void check_error_figures(brdffit_fit *fit, const brdffit_grid *grid,
             double m = vals[c * n + s], d = m - r[s], ci = cos(ti);
             double t = a[s] * (cbrt(ci * m) - cbrt(ci * r[s]));
             if (ti > BRDFFIT_DEFAULT_CAP + 1e-9 || to > BRDFFIT_DEFAULT_CAP + 1e-9) continue;
+            if (missing != NULL && missing[3 * s + c]) continue;
             e2[c] += d * d;
             ng_num[c] += a[s] * ci * ci * d * d;
             ng_den[c] += a[s];
@@ -701,6 +703,12 @@ static void check_error_figures(brdffit_fit *fit, const brdffit_grid *grid,
     free(vals);
 }
 
+static void check_error_figures(brdffit_fit *fit, const brdffit_grid *grid,
+                                const brdffit_model *model, int cube_root)
+{
+    check_error_figures_of(fit, grid, model, cube_root, NULL);
+}
+
 /* The default objective is the cube root: the fit says so, and its cost is
  * the cube-root sum; with the squares set, the squares sum. */
 static void test_error_figures(void **state)
@@ -721,6 +729,46 @@ static void test_error_figures(void **state)
     brdffit_fit_destroy(fit);
     brdffit_model_destroy(model);
     brdffit_grid_destroy(grid);
+}
+
+/* The error figures where values are missing: the sums leave them out
+ * (the pass then weighs each row by its presence; on a grid without
+ * missing values it reads the values in place, test_error_figures). */
+static void test_error_figures_missing(void **state)
+{
+    brdffit_grid *full = mismatched_grid(), *grid = NULL;
+    brdffit_model *model = make_model("ashikhmin-shirley");
+    size_t n = brdffit_grid_sample_count(full), s, c;
+    double *values = malloc(3 * n * sizeof *values);
+    unsigned char *missing = malloc(3 * n);
+    brdffit_fit *fit;
+    (void)state;
+    assert_non_null(values);
+    assert_non_null(missing);
+    for (c = 0; c < 3; c++) {
+        const double *r;
+        assert_int_equal(brdffit_grid_values(full, c, &r), BRDFFIT_OK);
+        for (s = 0; s < n; s++) {
+            values[3 * s + c] = r[s];
+            missing[3 * s + c] = (unsigned char)((3 * s + c) % 11 == 4);
+        }
+    }
+    assert_int_equal(brdffit_grid_create_regular(&grid, brdffit_axes_default(), 3, values, missing,
+                                                 NULL, NULL),
+                     BRDFFIT_OK);
+    fit = make_fit(grid, model);
+    run_ok(fit);
+    check_error_figures_of(fit, grid, model, 1, missing);
+    assert_int_equal(brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, BRDFFIT_OBJECTIVE_SQUARES),
+                     BRDFFIT_OK);
+    run_ok(fit);
+    check_error_figures_of(fit, grid, model, 0, missing);
+    brdffit_fit_destroy(fit);
+    brdffit_model_destroy(model);
+    brdffit_grid_destroy(grid);
+    brdffit_grid_destroy(full);
+    free(values);
+    free(missing);
 }
 
 /* The renderer form (docs/definitions.md), the history and the standard errors. */
@@ -1079,6 +1127,7 @@ int main(void)
         cmocka_unit_test(test_user_model_domain_error),
         cmocka_unit_test(test_many_scan_dimensions),
         cmocka_unit_test(test_error_figures),
+        cmocka_unit_test(test_error_figures_missing),
         cmocka_unit_test(test_shader_history_std_errors),
         cmocka_unit_test(test_fresnel_converges_on_mismatched_data),
         cmocka_unit_test(test_errors),

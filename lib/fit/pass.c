@@ -180,13 +180,12 @@ void bf_pass_terms(const bf_problem *pb, double *terms)
 }
 
 /* Whether the worker's route reads the chunk's measured values from the
- * scratch (the basis and colour routes may read what they need in place,
- * or need none). */
+ * scratch (every route may read what it needs in place, or need none). */
 static int reads_measured(const worker *wk)
 {
     if (wk->route == &bf_route_basis) return !bf_basis_in_place(wk->pb, wk->kind);
     if (wk->route == &bf_route_colour) return !bf_colour_in_place(wk->pb, wk->kind);
-    return 1;
+    return !bf_generic_in_place(wk->pb, wk->kind);
 }
 
 static brdffit_status run_chunk(worker *wk, size_t ci)

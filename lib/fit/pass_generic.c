@@ -28,18 +28,68 @@ static size_t generic_scratch_size(const bf_problem *pb)
     return pb->ly.n_params * pb->nc * BF_CHUNK;
 }
 
-/* Row weights w * present of channel m into rw. */
-static void row_weights(const bf_scratch *sc, size_t m, size_t n, double *restrict rw)
+/* Where a chunk's measured values are: model channel m's at
+ * meas + m * stride and its presence at pres + m * stride (pres NULL:
+ * every value present). The driver's scratch, or the grid's own values
+ * when the route reads them in place (bf_generic_in_place()). */
+typedef struct measured {
+    const double *meas, *pres;
+    size_t stride;
+} measured;
+
+/* The measured values the driver loaded into the scratch. */
+static measured in_scratch(const bf_scratch *sc, size_t n)
 {
-    const double *restrict pres = sc->pres + m * n;
+    measured in;
+    in.meas = sc->meas;
+    in.pres = sc->pres;
+    in.stride = n;
+    return in;
+}
+
+int bf_generic_in_place(const bf_problem *pb, bf_pass_kind kind)
+{
+    return kind == BF_PASS_METRICS && !bf_grid_has_missing(pb->grid) && !(pb->clearcoat > 0.0) &&
+           pb->source != BF_SOURCE_MEAN;
+}
+
+/* The chunk's measured values for a pass of this kind: in place in the
+ * grid when the driver left them unloaded, else the scratch; the presence
+ * left out on a grid without missing values (each factor would be 1). */
+static measured chunk_measured(const bf_problem *pb, bf_pass_kind kind, const bf_scratch *sc,
+                               size_t first, size_t n)
+{
+    measured in = in_scratch(sc, n);
+    if (kind != BF_PASS_METRICS) return in;
+    if (bf_generic_in_place(pb, kind)) {
+        size_t c = pb->source == BF_SOURCE_ONE_CHANNEL ? pb->source_channel : 0;
+        in.meas = bf_grid_values(pb->grid, c) + first;
+        in.stride = pb->grid->n_samples;
+    }
+    if (!bf_grid_has_missing(pb->grid)) in.pres = NULL;
+    return in;
+}
+
+/* Row weights w * present of channel m into rw (w where every value is
+ * present: w * 1 is w). */
+static void row_weights(const bf_scratch *sc, const measured *in, size_t m, size_t n,
+                        double *restrict rw)
+{
+    const double *restrict pres;
     size_t s;
+    if (in->pres == NULL) {
+        memcpy(rw, sc->w, n * sizeof *rw);
+        return;
+    }
+    pres = in->pres + m * in->stride;
     for (s = 0; s < n; s++) rw[s] = sc->w[s] * pres[s];
 }
 
 /* Weighted residuals rd = rw * (value - measured) of channel m. */
-static void weighted_residuals(const bf_scratch *sc, size_t m, size_t n, double *restrict rd)
+static void weighted_residuals(const bf_scratch *sc, const measured *in, size_t m, size_t n,
+                               double *restrict rd)
 {
-    const double *restrict meas = sc->meas + m * n, *restrict val = sc->vals + m * n;
+    const double *restrict meas = in->meas + m * in->stride, *restrict val = sc->vals + m * n;
     const double *restrict rw = sc->ww;
     size_t s;
     for (s = 0; s < n; s++) rd[s] = rw[s] * (val[s] - meas[s]);
@@ -152,14 +202,16 @@ void bf_objective_slopes(const bf_problem *pb, size_t m, size_t first, const dou
 
 /* The rows of channel m: weighted residuals into sc->d and row factors
  * into sc->ww, squares exactly as ever, other objectives transformed. */
-static void channel_rows(const bf_problem *pb, bf_scratch *sc, size_t m, const double *lz, size_t n)
+static void channel_rows(const bf_problem *pb, bf_scratch *sc, const measured *in, size_t m,
+                         const double *lz, size_t n)
 {
     const size_t first = (size_t)(lz - pb->grid->geo.lz);
-    row_weights(sc, m, n, sc->ww);
+    row_weights(sc, in, m, n, sc->ww);
     if (pb->objective == BRDFFIT_OBJECTIVE_SQUARES)
-        weighted_residuals(sc, m, n, sc->d);
+        weighted_residuals(sc, in, m, n, sc->d);
     else
-        bf_objective_rows(pb, m, first, sc->meas + m * n, sc->vals + m * n, lz, n, sc->d, sc->ww);
+        bf_objective_rows(pb, m, first, in->meas + m * in->stride, sc->vals + m * n, lz, n, sc->d,
+                          sc->ww);
 }
 
 static void scale_rows(double *restrict x, const double *restrict rw, size_t n)
@@ -190,9 +242,10 @@ static void normal_channel(const bf_problem *pb, const double *jac, size_t m, si
 static void accumulate_normal(const bf_problem *pb, bf_scratch *sc, double *jac, const double *lz,
                               size_t n)
 {
+    const measured in = in_scratch(sc, n);
     size_t np = pb->ly.n_params, nc = pb->nc, m, k;
     for (m = 0; m < nc; m++) {
-        channel_rows(pb, sc, m, lz, n);
+        channel_rows(pb, sc, &in, m, lz, n);
         sc->acc[0] += bf_dot(sc->d, sc->d, n);
         for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
         normal_channel(pb, jac, m, n, sc->d, sc->acc + 1, sc->acc + 1 + pb->ly.n_vec);
@@ -225,8 +278,9 @@ static void accumulate_varpro(const bf_problem *pb, bf_scratch *sc, double *jac,
     const size_t *lin = pb->ly.linear;
     for (m = 0; m < nc; m++) {
         double *acc = sc->acc + m * stride, *b = acc + 1, *G = acc + 1 + K;
+        const measured in = in_scratch(sc, n);
         double *rm = sc->d;
-        row_weights(sc, m, n, sc->ww);
+        row_weights(sc, &in, m, n, sc->ww);
         if (pb->ly.offset)
             remove_offset(pb, sc, jac, params, m, n, rm);
         else
@@ -251,11 +305,12 @@ static void accumulate_sandwich(const bf_problem *pb, bf_scratch *sc, double *ja
 {
     size_t nv = pb->ly.n_vec, np = pb->ly.n_params, nc = pb->nc, m, k, l, s;
     const double *B = pb->bread;
+    const measured in = in_scratch(sc, n);
     double *meat = sc->acc;
     for (m = 0; m < nc; m++) {
         const size_t *at = pb->vindex + m; /* at[k * nc]: entry of declared k */
         const double *col = jac + m * n;   /* col[k * nc * n + s]: J of declared k, row s */
-        channel_rows(pb, sc, m, lz, n);
+        channel_rows(pb, sc, &in, m, lz, n);
         for (k = 0; k < np; k++) scale_rows(jac + (k * nc + m) * n, sc->ww, n);
         for (s = 0; s < n; s++) {
             double h = 0.0, q, r2;
@@ -282,30 +337,94 @@ static void accumulate_sandwich(const bf_problem *pb, bf_scratch *sc, double *ja
 
 static void accumulate_cost(const bf_problem *pb, bf_scratch *sc, const double *lz, size_t n)
 {
+    const measured in = in_scratch(sc, n);
     size_t m;
     for (m = 0; m < pb->nc; m++) {
-        channel_rows(pb, sc, m, lz, n);
+        channel_rows(pb, sc, &in, m, lz, n);
         sc->acc[0] += bf_dot(sc->d, sc->d, n);
     }
 }
 
-static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const double *lz, size_t n)
+/* One channel's sums of the error figures (pass.h, METRICS) where every
+ * value is present: metrics_with_presence()'s without its presence
+ * factors (each 1, and x * 1 is x) and with the per-sample factors
+ * sac = wsa c^2 and w2 = w^2 formed once for all channels; the products
+ * associate as there, so every bit is kept. acc[3] under squares only
+ * (the other objectives' cost comes from their rows). */
+static void metrics_present(const double *restrict meas, const double *restrict val,
+                            const double *restrict wsa, const double *restrict sac,
+                            const double *restrict w2, size_t n, int squares, double *acc)
 {
-    int squares = pb->objective == BRDFFIT_OBJECTIVE_SQUARES;
-    size_t m, s;
-    for (m = 0; m < pb->nc; m++) {
-        const double *meas = sc->meas + m * n, *val = sc->vals + m * n, *pres = sc->pres + m * n;
-        double *acc = sc->acc + 4 * m;
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2], a3 = acc[3];
+    size_t s;
+    if (squares)
         for (s = 0; s < n; s++) {
-            double d = val[s] - meas[s], c = lz[s] > 0.0 ? lz[s] : 0.0;
-            acc[0] += pres[s] * d * d;
-            acc[1] += pres[s] * sc->wsa[s] * c * c * d * d;
-            acc[2] += pres[s] * sc->wsa[s];
-            if (squares) acc[3] += pres[s] * sc->w[s] * sc->w[s] * d * d;
+            double d = val[s] - meas[s];
+            a0 += d * d;
+            a1 += sac[s] * d * d;
+            a2 += wsa[s];
+            a3 += w2[s] * d * d;
         }
+    else
+        for (s = 0; s < n; s++) {
+            double d = val[s] - meas[s];
+            a0 += d * d;
+            a1 += sac[s] * d * d;
+            a2 += wsa[s];
+        }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+    acc[3] = a3;
+}
+
+/* One channel's sums of the error figures with each row's presence
+ * factor pres (1 or 0), c = max(lz, 0). */
+static void metrics_with_presence(const double *restrict meas, const double *restrict val,
+                                  const double *restrict pres, const double *restrict wsa,
+                                  const double *restrict w, const double *restrict lz, size_t n,
+                                  int squares, double *acc)
+{
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2], a3 = acc[3];
+    size_t s;
+    for (s = 0; s < n; s++) {
+        double d = val[s] - meas[s], c = lz[s] > 0.0 ? lz[s] : 0.0;
+        a0 += pres[s] * d * d;
+        a1 += pres[s] * wsa[s] * c * c * d * d;
+        a2 += pres[s] * wsa[s];
+        if (squares) a3 += pres[s] * w[s] * w[s] * d * d;
+    }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+    acc[3] = a3;
+}
+
+/* The error figures' sums of the chunk, acc[4 m ..] for channel m; the
+ * sums run in sample order within each of them, from the value they had. */
+static void accumulate_metrics(const bf_problem *pb, bf_scratch *sc, const measured *in,
+                               const double *lz, size_t n)
+{
+    const int squares = pb->objective == BRDFFIT_OBJECTIVE_SQUARES;
+    double sac[BF_CHUNK], w2[BF_CHUNK];
+    size_t m, s;
+    if (in->pres == NULL)
+        for (s = 0; s < n; s++) {
+            double c = lz[s] > 0.0 ? lz[s] : 0.0;
+            sac[s] = sc->wsa[s] * c * c;
+            w2[s] = sc->w[s] * sc->w[s];
+        }
+    for (m = 0; m < pb->nc; m++) {
+        const double *meas = in->meas + m * in->stride, *val = sc->vals + m * n;
+        double *acc = sc->acc + 4 * m;
+        if (in->pres == NULL)
+            metrics_present(meas, val, sc->wsa, sac, w2, n, squares, acc);
+        else
+            metrics_with_presence(meas, val, in->pres + m * in->stride, sc->wsa, sc->w, lz, n,
+                                  squares, acc);
         if (!squares) {
             /* the objective's cost in place of the squares */
-            channel_rows(pb, sc, m, lz, n);
+            channel_rows(pb, sc, in, m, lz, n);
             acc[3] += bf_dot(sc->d, sc->d, n);
         }
     }
@@ -364,13 +483,13 @@ static brdffit_status check_outputs(const bf_problem *pb, size_t first, size_t n
 /* The sums of a pass overflowed in this chunk although the model's outputs
  * are finite: name the first sample whose weighted residual squared is not
  * finite, or the chunk. */
-static brdffit_status overflow(const bf_problem *pb, bf_scratch *sc, const brdffit_batch *batch,
-                               size_t first, brdffit_error *err)
+static brdffit_status overflow(const bf_problem *pb, bf_scratch *sc, const measured *in,
+                               const brdffit_batch *batch, size_t first, brdffit_error *err)
 {
     size_t m, s, n = batch->n;
     char where[48];
     for (m = 0; m < pb->nc; m++) {
-        channel_rows(pb, sc, m, batch->lz, n);
+        channel_rows(pb, sc, in, m, batch->lz, n);
         for (s = 0; s < n; s++) {
             if (isfinite(sc->d[s] * sc->d[s])) continue;
             channel_name(pb, m, where, sizeof where);
@@ -378,7 +497,7 @@ static brdffit_status overflow(const bf_problem *pb, bf_scratch *sc, const brdff
                            "the residual of model \"%s\" at sample %zu%s (model %g, measured "
                            "%g) overflows when squared",
                            brdffit_model_name(pb->model), first + s, where, sc->vals[m * n + s],
-                           sc->meas[m * n + s]);
+                           in->meas[m * in->stride + s]);
         }
     }
     return bf_fail(err, BRDFFIT_E_NONFINITE,
@@ -405,6 +524,7 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
 {
     double *jac = wants_jacobian(kind) ? sc->own : NULL;
     size_t n = batch->n, first = (size_t)(batch->lz - pb->grid->geo.lz);
+    const measured in = chunk_measured(pb, kind, sc, first, n);
     brdffit_status status = bf_model_eval(pb->model, batch, params, pb->nc, sc->vals, jac, err);
     if (status != BRDFFIT_OK) return status;
     BF_RETURN_IF_ERROR(check_outputs(pb, first, n, sc->vals, jac, err));
@@ -412,14 +532,14 @@ static brdffit_status generic_chunk(const bf_problem *pb, bf_pass_kind kind, con
     case BF_PASS_COST: accumulate_cost(pb, sc, batch->lz, n); break;
     case BF_PASS_NORMAL: accumulate_normal(pb, sc, jac, batch->lz, n); break;
     case BF_PASS_VARPRO: accumulate_varpro(pb, sc, jac, params, n); break;
-    case BF_PASS_METRICS: accumulate_metrics(pb, sc, batch->lz, n); break;
+    case BF_PASS_METRICS: accumulate_metrics(pb, sc, &in, batch->lz, n); break;
     case BF_PASS_SANDWICH: accumulate_sandwich(pb, sc, jac, batch->lz, n); break;
     case BF_PASS_SHAPE:
     case BF_PASS_COLOUR_COST:
     case BF_PASS_COLOUR_NORMAL:
     case BF_PASS_COLOUR_VARPRO: break; /* the colour route's (pass.c never sends them) */
     }
-    return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, batch, first, err);
+    return sums_finite(pb, kind, sc->acc) ? BRDFFIT_OK : overflow(pb, sc, &in, batch, first, err);
 }
 
 static void generic_finish(const bf_problem *pb, bf_pass_kind kind, const double *params,

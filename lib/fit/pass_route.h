@@ -59,6 +59,12 @@ int bf_basis_in_place(const bf_problem *pb, bf_pass_kind kind);
  * from the terms alone on a grid without missing values. */
 int bf_colour_in_place(const bf_problem *pb, bf_pass_kind kind);
 
+/* Whether the driver leaves the chunk's measured values and presence
+ * unloaded because the generic route reads them in place
+ * (pass_generic.c): METRICS on a grid without missing values, the values
+ * neither clear-coat compensated nor averaged over the channels. */
+int bf_generic_in_place(const bf_problem *pb, bf_pass_kind kind);
+
 /* The objective's terms of n samples that depend on the measured values
  * and the geometry alone (pb->terms, pass.h), c = max(lz, 0): log
  * tm = log(1 + c M); cube-root tm = cbrt(c M) and, when tc is not NULL,
