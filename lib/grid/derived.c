@@ -29,7 +29,11 @@ void bf_grid_store_float_values(brdffit_grid *g)
     size_t v, n = g->n_samples * g->n_channels;
     double top = 0.0;
     int e;
-    for (v = 0; v < n; v++) top = fmax(top, fabs(g->values[v]));
+    /* as fmax(top, |value|), NaN included (it never wins), without the call */
+    for (v = 0; v < n; v++) {
+        double a = fabs(g->values[v]);
+        top = a > top ? a : top;
+    }
     g->fscale = 1.0;
     if (top > 0.0) {
         (void)frexp(top, &e); /* top = f 2^e, f in [0.5, 1) */
