@@ -13,14 +13,18 @@ void bf_grid_view_init(brdffit_grid *view, const brdffit_grid *geometry, double 
     view->n_missing = 0;
 }
 
-/* Whether every value is finite: one branch-free sweep (inf - inf and
- * NaN - NaN are NaN). */
+/* Whether every value is finite: x - x is 0 for a finite x, NaN for inf
+ * and NaN, so the sum of them all is 0 exactly when every value is;
+ * added in four independent sums, so that no one chain of additions
+ * holds the sweep up. */
 static int all_finite(const double *values, size_t n)
 {
-    double sum = 0.0;
-    size_t v;
-    for (v = 0; v < n; v++) sum += values[v] - values[v];
-    return sum == 0.0;
+    double s[4] = {0.0, 0.0, 0.0, 0.0};
+    size_t v = 0, k;
+    for (; v + 4 <= n; v += 4)
+        for (k = 0; k < 4; k++) s[k] += values[v + k] - values[v + k];
+    for (; v < n; v++) s[0] += values[v] - values[v];
+    return (s[0] + s[1]) + (s[2] + s[3]) == 0.0;
 }
 
 /* bf_grid_store_values() with no value missing and no mask: each sample's
