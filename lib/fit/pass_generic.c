@@ -357,21 +357,13 @@ static void metrics_present(const double *restrict meas, const double *restrict 
 {
     double a0 = acc[0], a1 = acc[1], a2 = acc[2], a3 = acc[3];
     size_t s;
-    if (squares)
-        for (s = 0; s < n; s++) {
-            double d = val[s] - meas[s];
-            a0 += d * d;
-            a1 += sac[s] * d * d;
-            a2 += wsa[s];
-            a3 += w2[s] * d * d;
-        }
-    else
-        for (s = 0; s < n; s++) {
-            double d = val[s] - meas[s];
-            a0 += d * d;
-            a1 += sac[s] * d * d;
-            a2 += wsa[s];
-        }
+    for (s = 0; s < n; s++) {
+        double d = val[s] - meas[s];
+        a0 += d * d;
+        a1 += sac[s] * d * d;
+        a2 += wsa[s];
+        if (squares) a3 += w2[s] * d * d;
+    }
     acc[0] = a0;
     acc[1] = a1;
     acc[2] = a2;

@@ -135,6 +135,10 @@ brdffit_status bf_grid_check_values(const double *values, const unsigned char *m
                                    brdffit_error *err)
 {
     size_t v, n = n_samples * n_channels, count = 0;
+    if (missing == NULL && bf_all_finite(values, n)) { /* the usual case, branch-free */
+        *n_missing = 0;
+        return BRDFFIT_OK;
+    }
     for (v = 0; v < n; v++) {
         if (missing != NULL && missing[v]) {
             count++;
@@ -153,6 +157,13 @@ void bf_grid_store_values(brdffit_grid *g, const double *values, const unsigned 
                          const size_t *order)
 {
     size_t s, c, n = g->n_samples, nc = g->n_channels;
+    if (missing == NULL && g->missing == NULL) { /* nothing to mask: no branch per value */
+        for (s = 0; s < n; s++) {
+            const double *row = values + (order != NULL ? order[s] : s) * nc;
+            for (c = 0; c < nc; c++) g->values[c * n + s] = row[c] + 0.0;
+        }
+        return;
+    }
     for (s = 0; s < n; s++) {
         size_t src = order != NULL ? order[s] : s;
         for (c = 0; c < nc; c++) {
