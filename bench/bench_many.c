@@ -293,8 +293,10 @@ static void measure(bh_output *out, const texels *t, figures *fg)
     free_buffers(&b);
 }
 
-/* Mean passes over the samples and LM iterations per fit (first texels). */
-static void passes_per_fit(bh_output *out, const texels *t)
+/* Mean passes over the samples and LM iterations per fit (first texels)
+ * under one objective. */
+static void passes_per_fit(bh_output *out, const texels *t, brdffit_objective objective,
+                           const char *name)
 {
     size_t i, n = t->n < 50 ? t->n : 50, passes = 0, iters = 0;
     bh_record r;
@@ -305,6 +307,7 @@ static void passes_per_fit(bh_output *out, const texels *t)
                                           t->values + i * NS * NC, NULL, NULL, NULL,
                                           NULL) == BRDFFIT_OK &&
             brdffit_fit_create(&fit, g, t->model, NULL, NULL) == BRDFFIT_OK &&
+            brdffit_fit_set(fit, BRDFFIT_FIT_OBJECTIVE, (double)objective) == BRDFFIT_OK &&
             brdffit_fit_run(fit) == BRDFFIT_OK) {
             passes += brdffit_fit_passes(fit);
             iters += brdffit_fit_iterations(fit);
@@ -313,11 +316,12 @@ static void passes_per_fit(bh_output *out, const texels *t)
         brdffit_grid_destroy(g);
     }
     bh_table(out,
-             "per fit (mean of %zu): %.1f passes over the samples, %.1f LM iterations, "
+             "%s, per fit (mean of %zu): %.1f passes over the samples, %.1f LM iterations, "
              "%zu samples inside the cap\n",
-             n, (double)passes / (double)n, (double)iters / (double)n,
+             name, n, (double)passes / (double)n, (double)iters / (double)n,
              brdffit_grid_active_count(t->grid, BRDFFIT_DEFAULT_CAP));
     bh_rec_begin(&r, out, "passes per fit");
+    bh_rec_str(&r, "objective", name);
     bh_rec_num(&r, "passes", (double)passes / (double)n);
     bh_rec_num(&r, "iterations", (double)iters / (double)n);
     bh_rec_int(&r, "active_samples", brdffit_grid_active_count(t->grid, BRDFFIT_DEFAULT_CAP));
@@ -364,7 +368,8 @@ int main(int argc, char **argv)
                  "brdffit_fit_many under --filter=\"fit_many, squares, 1 thread\" by it: "
                  "a helper thread's work is not counted)\n",
                  fg.fits);
-        passes_per_fit(&out, &t);
+        passes_per_fit(&out, &t, BRDFFIT_OBJECTIVE_SQUARES, "squares");
+        passes_per_fit(&out, &t, BRDFFIT_OBJECTIVE_CUBE_ROOT, "cube-root");
         if (!opt.smoke && opt.filter == NULL) targets(&out, &fg);
     }
     free_texels(&t);
