@@ -56,7 +56,7 @@ static inline double bf_exp(double x)
  * (relative errors ~2e-5, then below rounding); x y^3 is formed as
  * (x y) y^2, so no product leaves the normal range. Arguments below
  * 2^-1000 (subnormals) are scaled by 2^162 and the result by 2^54, those
- * above 2^1000 the other way; 0 is taken as 2^-1000 (so x * y * y is 0
+ * above 2^1000 the other way; 0 gives a finite y (so x * y * y is 0
  * there); NaN for NaN or an infinity. Vectorises, like the others here. */
 static inline double bf_rcbrt(double x)
 {
