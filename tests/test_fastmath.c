@@ -1,5 +1,5 @@
 /* The vectorisable elementary functions of lib/core/fastmath.h against
- * libm: bf_exp, bf_cbrt, bf_log and bf_log1p within a few units in the
+ * libm: bf_exp, bf_cbrt, bf_rcbrt, bf_log and bf_log1p within a few units in the
  * last place over wide ranges of arguments, and their edge values (0,
  * signs, subnormals, the ends of the double range, NaN). */
 #include <float.h>
@@ -43,6 +43,33 @@ static void test_cbrt_matches_libm(void **state)
     assert_true(ulps(bf_cbrt(DBL_MAX), cbrt(DBL_MAX)) <= 4.0);
     assert_true(ulps(bf_cbrt(-1e-310), cbrt(-1e-310)) <= 4.0);
     assert_true(isnan(bf_cbrt(NAN)));
+    assert_true(isnan(bf_cbrt(INFINITY)));
+}
+
+/* bf_rcbrt(x) against 1 / cbrt(x) in long double, and x y^2 (the cube
+ * root the cube-root objective's rows take from it) against cbrt(x),
+ * over the whole positive range, subnormals included. */
+static void test_rcbrt_matches_libm(void **state)
+{
+    uint64_t st = 1181783497276652981ULL;
+    double worst = 0.0, worst_root = 0.0;
+    const double edges[] = {5e-324, 1e-310, 0x1p-1022, 0x1p-1000, 1.0, 0x1p1000, DBL_MAX};
+    size_t i;
+    (void)state;
+    for (i = 0; i < 200000 + sizeof edges / sizeof *edges; i++) {
+        double x = i < 200000 ? pow(2.0, 2098.0 * uniform(&st) - 1074.0) : edges[i - 200000];
+        double y = bf_rcbrt(x);
+        worst = fmax(worst, ulps(y, (double)(1.0L / cbrtl((long double)x))));
+        worst_root = fmax(worst_root, ulps(x * (y * y), cbrt(x)));
+    }
+    assert_true(worst <= 2.0);
+    assert_true(worst_root <= 6.0);
+    /* 0 is taken as 2^-1000: a finite y, so 0 * y * y is 0 */
+    assert_true(isfinite(bf_rcbrt(0.0)) && bf_rcbrt(0.0) > 0.0);
+    assert_true(0.0 * (bf_rcbrt(0.0) * bf_rcbrt(0.0)) == 0.0);
+    assert_true(bf_rcbrt(8.0) == 0.5);
+    assert_true(isnan(bf_rcbrt(NAN)));
+    assert_true(isnan(bf_rcbrt(INFINITY)));
 }
 
 static void test_log_matches_libm(void **state)
@@ -103,6 +130,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cbrt_matches_libm),
+        cmocka_unit_test(test_rcbrt_matches_libm),
         cmocka_unit_test(test_log_matches_libm),
         cmocka_unit_test(test_log1p_matches_libm),
         cmocka_unit_test(test_exp_matches_libm),

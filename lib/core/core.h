@@ -68,14 +68,21 @@ void bf_format(char *buf, size_t size, const char *fmt, ...)
 /* Hot sample loops (with everything they call inlined) are compiled twice
  * on x86-64, for the baseline (SSE2) and for AVX2,
  * and the better one is picked when the library is loaded. The AVX2 clone
- * does not use FMA, so both give bit-identical results. Not under
+ * does not use FMA, so both give bit-identical results. BF_WIDE_CLONES adds
+ * an AVX-512 clone, also without FMA, for loops bound by the latency of
+ * long per-row chains, which twice the lanes halve (the objective's rows,
+ * fit/pass_generic.c; tests/test_pass_objectives.c checks the version the
+ * machine runs against plain C); loops of short sums stay on
+ * BF_VECTOR_CLONES, whose AVX-512 clones ran slower. Not under
  * ThreadSanitizer: it instruments the clone resolvers, which run while the
  * program is loaded, before its runtime is set up, and crash there. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__) && \
     !defined(BRDFFIT_NO_CLONES) && !defined(__SANITIZE_THREAD__)
 #define BF_VECTOR_CLONES __attribute__((flatten, target_clones("avx2", "default")))
+#define BF_WIDE_CLONES __attribute__((flatten, target_clones("avx512f", "avx2", "default")))
 #else
 #define BF_VECTOR_CLONES
+#define BF_WIDE_CLONES
 #endif
 
 #define BF_PI 3.14159265358979323846

@@ -96,7 +96,7 @@ static void weighted_residuals(const bf_scratch *sc, const measured *in, size_t 
 }
 
 /* bf_objective_terms() of pass_route.h. */
-BF_VECTOR_CLONES
+BF_WIDE_CLONES
 void bf_objective_terms(const bf_problem *pb, const double *restrict meas,
                         const double *restrict lz, size_t n, double *restrict tm,
                         double *restrict tc)
@@ -123,7 +123,7 @@ void bf_objective_terms(const bf_problem *pb, const double *restrict meas,
  * objective, with the vectorisable cube root and logarithm of
  * core/fastmath.h, so the loops vectorise; what depends on the measured
  * value and the geometry alone comes from the problem's terms. */
-BF_VECTOR_CLONES
+BF_WIDE_CLONES
 void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const double *restrict meas,
                        const double *restrict val, const double *restrict lz, size_t n,
                        double *restrict rd, double *restrict rw)
@@ -143,15 +143,18 @@ void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const doubl
     case BRDFFIT_OBJECTIVE_CUBE_ROOT: {
         /* cbrt(c R) as cbrt(c) cbrt(|R|) with R's sign, and the slope's pole
          * at R = 0 floored at |R| = delta: cbrt is monotonic, so the floor
-         * is max(cbrt |R|, cbrt delta) */
+         * is t = max(cbrt |R|, cbrt delta). With y = |R|^(-1/3) from
+         * bf_rcbrt(), cbrt |R| = |R| y^2 and 1 / (3 t^2) = y^2 / 3 above
+         * the floor: no division per row. */
         const double root_delta = bf_cbrt(pb->delta);
+        const double floor_slope = 1.0 / (3.0 * root_delta * root_delta);
         const double *restrict tc = pb->terms + pb->nc * ns + first;
         for (s = 0; s < n; s++) {
             double on = rw[s] != 0.0 ? 1.0 : 0.0, cc = tc[s];
-            double v = on * val[s], tv = bf_cbrt(v < 0.0 ? -v : v);
-            double t = tv > root_delta ? tv : root_delta;
+            double v = on * val[s], a = v < 0.0 ? -v : v, y = bf_rcbrt(a), y2 = y * y;
+            double tv = a * y2, slope = tv > root_delta ? y2 * (1.0 / 3.0) : floor_slope;
             rd[s] = rw[s] * ((v < 0.0 ? -cc : cc) * tv - tm[s]);
-            rw[s] *= cc / (3.0 * t * t);
+            rw[s] *= cc * slope;
         }
         return;
     }
@@ -169,7 +172,7 @@ void bf_objective_rows(const bf_problem *pb, size_t m, size_t first, const doubl
 /* bf_objective_slopes() of pass_route.h: the row factors of
  * bf_objective_rows() with val = meas; cube-root's cbrt |R| as
  * |cbrt(c R)| / cbrt(c) from the terms. */
-BF_VECTOR_CLONES
+BF_WIDE_CLONES
 void bf_objective_slopes(const bf_problem *pb, size_t m, size_t first, const double *restrict meas,
                          const double *restrict lz, size_t n, double *restrict rw)
 {
